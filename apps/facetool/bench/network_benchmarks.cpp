@@ -1,0 +1,91 @@
+// Network benchmarks: timed forward passes and training steps with medians over repeats.
+#include "apps/facetool/bench/network_benchmarks.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+
+#include "core/autograd/functions.h"
+#include "core/backend/backend.h"
+#include "core/train/adam_optimizer.h"
+
+namespace facetool {
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+Tensor random_images(Backend& be, int batch, int size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> dist(0.0f, 1.0f);
+  std::vector<float> values(static_cast<size_t>(batch) * 3 * size * size);
+  for (float& v : values) v = dist(rng);
+  return Tensor::from_host(be, Shape{batch, 3, size, size}, values);
+}
+
+template <typename F>
+double time_ms(Backend& be, F&& work) {
+  be.synchronize();
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  be.synchronize();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
+                            const NetworkBenchOptions& options, std::ostream& out) {
+  const int size = net.config().input_size;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-34s %8s %12s %10s %10s\n", "benchmark", "batch", "ms/image",
+                "images/s", "GFLOP/s");
+  out << "backend " << be.name() << " (" << be.device_description() << "), width "
+      << net.config().width << ", input " << size << "x" << size << ", " << gflop
+      << " GFLOP/image forward\n"
+      << line;
+  for (int batch : options.forward_batches) {
+    ag::Variable images(random_images(be, batch, size, 1));
+    std::vector<double> runs;
+    for (int r = 0; r <= options.repeats; ++r) {
+      const double ms = time_ms(be, [&] {
+        NetworkOutputs o = net.forward(images, false);
+        o.light.value().to_host();
+      });
+      if (r > 0) runs.push_back(ms / batch);  // run 0 warms caches and compiles kernels
+    }
+    const double per_image = median(runs);
+    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n", "forward (eval)", batch,
+                  per_image, 1000.0 / per_image, gflop / (per_image / 1000.0));
+    out << line << std::flush;
+  }
+  if (options.train_batch > 0) {
+    const int batch = options.train_batch;
+    ag::Variable images(random_images(be, batch, size, 2));
+    AdamParams adam;
+    adam.lr = 1e-4f;
+    AdamOptimizer optimizer(net.parameters(), adam);
+    std::vector<double> runs;
+    for (int r = 0; r <= options.repeats; ++r) {
+      const double ms = time_ms(be, [&] {
+        NetworkOutputs o = net.forward(images, true);
+        ag::Variable loss = ag::add(ag::add(ag::mean(o.albedo), ag::mean(o.normal)),
+                                    ag::add(ag::mean(o.visibility), ag::mean(o.light)));
+        loss.backward();
+        optimizer.step();
+        loss.value().to_host();
+      });
+      if (r > 0) runs.push_back(ms);
+    }
+    const double step_ms = median(runs);
+    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n",
+                  "training step (fwd+bwd+Adam)", batch, step_ms / batch, batch * 1000.0 / step_ms,
+                  3.0 * gflop * batch / (step_ms / 1000.0));
+    out << line << std::flush;
+  }
+}
+
+}  // namespace facetool

@@ -1,0 +1,23 @@
+// Network benchmarks: forward ms/image and training steps of a network plugin on one backend.
+#pragma once
+
+#include <ostream>
+#include <vector>
+
+#include "core/plugin/network_plugin.h"
+
+namespace facetool {
+
+struct NetworkBenchOptions {
+  std::vector<int> forward_batches{1, 20};
+  int train_batch = 20;  // 0: skip the training step
+  int repeats = 3;       // timed runs per figure (after one warm-up); the median is printed
+};
+
+// Prints forward ms/image (eval mode) at each batch and the training step time (training-mode
+// forward, a loss over all four outputs, backward, Adam) in images/s, with GFLOP/s estimated
+// from `forward_gflop_per_image` (backward counted as twice the forward).
+void run_network_benchmarks(NetworkPlugin& net, Backend& backend, double forward_gflop_per_image,
+                            const NetworkBenchOptions& options, std::ostream& out);
+
+}  // namespace facetool

@@ -1,0 +1,139 @@
+// Batch normalisation on the cpu (PyTorch semantics), one channel per task.
+#include <cmath>
+
+#include "backends/cpu/cpu_backend_impl.h"
+#include "core/util/parallel_for.h"
+
+namespace facetool::cpu {
+namespace {
+
+// Visits every value of channel c of an NCHW tensor: fn(pointer to the (n, c) plane, plane size).
+template <typename Fn>
+void for_each_plane(const Shape& s, int64_t c, const float* base, Fn fn) {
+  const int64_t plane = s.h() * s.w();
+  for (int64_t n = 0; n < s.n(); ++n) fn(base + (n * s.c() + c) * plane, plane);
+}
+
+// sum(term(v[i])) over a plane with 16 independent float lanes (so it vectorises), in double.
+template <typename Term>
+double lane_sum(const float* v, int64_t m, Term term) {
+  constexpr int kLanes = 16;
+  float lanes[kLanes] = {};
+  int64_t i = 0;
+  for (; i + kLanes <= m; i += kLanes)
+    for (int l = 0; l < kLanes; ++l) lanes[l] += term(v[i + l]);
+  double total = 0.0;
+  for (; i < m; ++i) total += term(v[i]);
+  for (float lane : lanes) total += lane;
+  return total;
+}
+
+}  // namespace
+
+void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                            const Tensor& running_mean, const Tensor& running_var,
+                            const Tensor& save_mean, const Tensor& save_invstd, const Tensor& y,
+                            const BatchNormParams& p) {
+  const Shape& s = x.shape();
+  const int64_t count = s.n() * s.h() * s.w();
+  const int64_t plane = s.h() * s.w();
+  const float* px = ptr(x);
+  float* py = ptr(y);
+  const float* pg = ptr(gamma);
+  const float* pbeta = ptr(beta);
+  float* prm = ptr(running_mean);
+  float* prv = ptr(running_var);
+  float* psm = ptr(save_mean);
+  float* psi = ptr(save_invstd);
+  parallel_for(s.c(), 1, [&](int64_t begin, int64_t end) {
+    for (int64_t c = begin; c < end; ++c) {
+      float mean, invstd;
+      if (p.training) {
+        // Two passes in double: the mean, then the biased variance around it.
+        double total = 0.0;
+        for_each_plane(s, c, px, [&](const float* v, int64_t m) {
+          total += lane_sum(v, m, [](float a) { return a; });
+        });
+        const double batch_mean = total / static_cast<double>(count);
+        double squares = 0.0;
+        const float centre = static_cast<float>(batch_mean);
+        for_each_plane(s, c, px, [&](const float* v, int64_t m) {
+          squares += lane_sum(v, m, [centre](float a) { return (a - centre) * (a - centre); });
+        });
+        const double biased_var = squares / static_cast<double>(count);
+        const double unbiased_var = squares / static_cast<double>(count - 1);
+        mean = static_cast<float>(batch_mean);
+        invstd = static_cast<float>(1.0 / std::sqrt(biased_var + p.eps));
+        prm[c] = (1.0f - p.momentum) * prm[c] + p.momentum * mean;
+        prv[c] = (1.0f - p.momentum) * prv[c] + p.momentum * static_cast<float>(unbiased_var);
+      } else {
+        mean = prm[c];
+        invstd = 1.0f / std::sqrt(prv[c] + p.eps);
+      }
+      psm[c] = mean;
+      psi[c] = invstd;
+      const float a = pg[c] * invstd;
+      const float b = pbeta[c] - mean * a;
+      for (int64_t n = 0; n < s.n(); ++n) {
+        const float* in = px + (n * s.c() + c) * plane;
+        float* out = py + (n * s.c() + c) * plane;
+        for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
+      }
+    }
+  });
+}
+
+void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
+                                     const Tensor& save_mean, const Tensor& save_invstd,
+                                     const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
+                                     const Tensor* dbeta, const BatchNormParams& p,
+                                     bool accumulate) {
+  const Shape& s = x.shape();
+  const int64_t count = s.n() * s.h() * s.w();
+  const int64_t plane = s.h() * s.w();
+  const float* px = ptr(x);
+  const float* pdy = ptr(dy);
+  const float* pg = ptr(gamma);
+  const float* psm = ptr(save_mean);
+  const float* psi = ptr(save_invstd);
+  float* pdx = dx ? ptr(*dx) : nullptr;
+  float* pdg = dgamma ? ptr(*dgamma) : nullptr;
+  float* pdb = dbeta ? ptr(*dbeta) : nullptr;
+  parallel_for(s.c(), 1, [&](int64_t begin, int64_t end) {
+    for (int64_t c = begin; c < end; ++c) {
+      const float mean = psm[c];
+      const float invstd = psi[c];
+      // sum(dy) and sum(dy * xhat) over the channel.
+      double sum_dy = 0.0, sum_dy_xhat = 0.0;
+      for (int64_t n = 0; n < s.n(); ++n) {
+        const float* in = px + (n * s.c() + c) * plane;
+        const float* g = pdy + (n * s.c() + c) * plane;
+        float plane_dy = 0.0f, plane_dy_xhat = 0.0f;
+        for (int64_t i = 0; i < plane; ++i) {
+          plane_dy += g[i];
+          plane_dy_xhat += g[i] * (in[i] - mean) * invstd;
+        }
+        sum_dy += plane_dy;
+        sum_dy_xhat += plane_dy_xhat;
+      }
+      if (pdb) store(pdb[c], static_cast<float>(sum_dy), accumulate);
+      if (pdg) store(pdg[c], static_cast<float>(sum_dy_xhat), accumulate);
+      if (!pdx) continue;
+      const float scale = pg[c] * invstd;
+      // Training: dx = gamma*invstd * (dy - mean(dy) - xhat * mean(dy * xhat)).
+      const float mean_dy = p.training ? static_cast<float>(sum_dy / count) : 0.0f;
+      const float mean_dy_xhat = p.training ? static_cast<float>(sum_dy_xhat / count) : 0.0f;
+      for (int64_t n = 0; n < s.n(); ++n) {
+        const float* in = px + (n * s.c() + c) * plane;
+        const float* g = pdy + (n * s.c() + c) * plane;
+        float* out = pdx + (n * s.c() + c) * plane;
+        for (int64_t i = 0; i < plane; ++i) {
+          const float xhat = (in[i] - mean) * invstd;
+          store(out[i], scale * (g[i] - mean_dy - xhat * mean_dy_xhat), accumulate);
+        }
+      }
+    }
+  });
+}
+
+}  // namespace facetool::cpu

@@ -1,0 +1,54 @@
+// SGEMM selection: OpenBLAS by default; oneDNN where OpenBLAS runs without AVX-512 on an
+// AVX-512 machine (e.g. OPENBLAS_CORETYPE=Haswell); FACETOOL_GEMM=openblas|dnnl overrides.
+#include <cstdlib>
+#include <string>
+
+#include "backends/cpu/gemm.h"
+#include "backends/cpu/gemm_dnnl.h"
+#include "backends/cpu/gemm_openblas.h"
+#include "core/util/error.h"
+
+namespace facetool::cpu {
+namespace {
+
+enum class GemmLibrary { OpenBlas, Dnnl };
+
+GemmLibrary choose_library() {
+  openblas_prepare();
+  if (const char* env = std::getenv("FACETOOL_GEMM")) {
+    const std::string wanted = env;
+    if (wanted == "openblas") return GemmLibrary::OpenBlas;
+    if (wanted == "dnnl") return GemmLibrary::Dnnl;
+    if (!wanted.empty())
+      fail("FACETOOL_GEMM='", wanted, "' is not a known GEMM library; use openblas or dnnl");
+  }
+  __builtin_cpu_init();
+  const bool cpu_has_avx512 = __builtin_cpu_supports("avx512f");
+  if (cpu_has_avx512 && !openblas_core_uses_avx512()) return GemmLibrary::Dnnl;
+  return GemmLibrary::OpenBlas;
+}
+
+GemmLibrary library() {
+  static const GemmLibrary chosen = choose_library();
+  return chosen;
+}
+
+}  // namespace
+
+void sgemm(bool trans_a, bool trans_b, int64_t m, int64_t n, int64_t k, float alpha,
+           const float* a, int64_t lda, const float* b, int64_t ldb, float beta, float* c,
+           int64_t ldc) {
+  if (m <= 0 || n <= 0) return;
+  if (library() == GemmLibrary::Dnnl)
+    dnnl_single_thread_sgemm(trans_a, trans_b, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
+  else
+    openblas_sgemm(trans_a, trans_b, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
+}
+
+std::string sgemm_description() {
+  if (library() == GemmLibrary::Dnnl)
+    return "oneDNN sgemm (OpenBLAS core " + openblas_core_name() + " lacks AVX-512)";
+  return "OpenBLAS sgemm (" + openblas_core_name() + " kernels)";
+}
+
+}  // namespace facetool::cpu

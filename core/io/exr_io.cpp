@@ -1,0 +1,102 @@
+// EXR writing and reading through OpenImageIO's ImageOutput/ImageInput.
+#include "core/io/exr_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <memory>
+
+#include "core/io/atomic_file.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+namespace {
+
+// OpenImageIO wants interleaved pixels; LayeredImage is planar.
+std::vector<float> interleave(const LayeredImage& image) {
+  const size_t plane = image.plane_size();
+  const size_t channels = image.channel_names.size();
+  std::vector<float> out(plane * channels);
+  for (size_t c = 0; c < channels; ++c) {
+    const float* source = image.plane(static_cast<int>(c));
+    for (size_t p = 0; p < plane; ++p) out[p * channels + c] = source[p];
+  }
+  return out;
+}
+
+void read_metadata(const OIIO::ImageSpec& spec, const std::string& prefix, LayeredImage& image) {
+  for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+    if (attribute.type() != OIIO::TypeDesc::STRING) continue;
+    const std::string name = attribute.name().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    image.metadata.emplace_back(name, attribute.get_string());
+  }
+}
+
+std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
+  auto input = OIIO::ImageInput::open(path);
+  if (!input)
+    fail("cannot read EXR '", path, "': ", OIIO::geterror(),
+         " (a missing or damaged file: remove it and regenerate)");
+  const OIIO::ImageSpec& spec = input->spec();
+  check(spec.width > 0 && spec.height > 0 && spec.nchannels > 0, "EXR '", path, "' is empty");
+  return input;
+}
+
+}  // namespace
+
+void write_exr_atomically(const std::string& path, const LayeredImage& image) {
+  check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
+        "cannot write '", path, "': the image is empty");
+  check(image.pixels.size() == image.plane_size() * image.channel_names.size(),
+        "cannot write '", path, "': pixel count does not match the size and channels");
+  const std::vector<float> interleaved = interleave(image);
+  write_atomically(path, [&](const std::string& temp_path) {
+    auto output = OIIO::ImageOutput::create("openexr");
+    check(output != nullptr, "OpenImageIO has no OpenEXR writer: ", OIIO::geterror());
+    OIIO::ImageSpec spec(image.width, image.height, image.channel_count(), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = image.channel_names;
+    spec.alpha_channel = -1;
+    spec.z_channel = -1;
+    spec.attribute("compression", "zip");
+    for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
+    if (!output->open(temp_path, spec))
+      fail("cannot create '", temp_path, "': ", output->geterror());
+    if (!output->write_image(OIIO::TypeDesc::FLOAT, interleaved.data()))
+      fail("cannot write '", temp_path, "': ", output->geterror());
+    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
+  });
+}
+
+LayeredImage read_exr(const std::string& path, const std::string& metadata_prefix) {
+  auto input = open_exr(path);
+  const OIIO::ImageSpec& spec = input->spec();
+  LayeredImage image(spec.width, spec.height, spec.channelnames);
+  std::vector<float> interleaved(image.plane_size() * spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, interleaved.data()))
+    fail("cannot read the pixels of EXR '", path, "': ", input->geterror());
+  const size_t channels = static_cast<size_t>(spec.nchannels);
+  for (size_t c = 0; c < channels; ++c) {
+    float* target = image.plane(static_cast<int>(c));
+    for (size_t p = 0; p < image.plane_size(); ++p) target[p] = interleaved[p * channels + c];
+  }
+  read_metadata(spec, metadata_prefix, image);
+  input->close();
+  return image;
+}
+
+LayeredImage read_exr_header(const std::string& path, const std::string& metadata_prefix) {
+  auto input = open_exr(path);
+  const OIIO::ImageSpec& spec = input->spec();
+  LayeredImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channel_names = spec.channelnames;
+  read_metadata(spec, metadata_prefix, image);
+  input->close();
+  return image;
+}
+
+}  // namespace facetool

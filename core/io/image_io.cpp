@@ -1,0 +1,70 @@
+// RGB image reading and PNG writing through OpenImageIO.
+#include "core/io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "core/io/atomic_file.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+float linear_to_srgb(float linear) {
+  const float x = std::clamp(linear, 0.0f, 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float encoded) {
+  const float x = std::clamp(encoded, 0.0f, 1.0f);
+  return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
+}
+
+RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
+  auto input = OIIO::ImageInput::open(path);
+  if (!input)
+    fail("cannot read image '", path, "': ", OIIO::geterror(),
+         " (check that the file exists and is an image OpenImageIO can read)");
+  const OIIO::ImageSpec& spec = input->spec();
+  check(spec.width > 0 && spec.height > 0 && spec.nchannels > 0, "image '", path, "' is empty");
+  const int channels = spec.nchannels;
+  std::vector<float> raw(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
+    fail("cannot read the pixels of image '", path, "': ", input->geterror());
+  input->close();
+  RgbImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * 3);
+  const size_t count = static_cast<size_t>(spec.width) * spec.height;
+  for (size_t p = 0; p < count; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const int source_channel = channels >= 3 ? c : 0;  // grey (+ alpha) replicates channel 0
+      float value = raw[p * channels + source_channel];
+      if (!std::isfinite(value)) value = 0.0f;
+      image.pixels[p * 3 + c] = decode_srgb ? srgb_to_linear(value) : value;
+    }
+  return image;
+}
+
+void write_png_atomically(const std::string& path, const RgbImage& rgb) {
+  check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
+  std::vector<uint8_t> bytes(rgb.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<uint8_t>(std::lround(linear_to_srgb(rgb.pixels[i]) * 255.0f));
+  write_atomically(path, [&](const std::string& temp_path) {
+    auto output = OIIO::ImageOutput::create("png");
+    check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());
+    OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
+    if (!output->open(temp_path, spec)) fail("cannot create '", temp_path, "': ", output->geterror());
+    if (!output->write_image(OIIO::TypeDesc::UINT8, bytes.data()))
+      fail("cannot write '", temp_path, "': ", output->geterror());
+    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
+  });
+}
+
+}  // namespace facetool

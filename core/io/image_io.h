@@ -1,0 +1,34 @@
+// Reading ordinary images (HDR, EXR, PNG, JPEG, ...) as float RGB and writing 8-bit PNGs.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace facetool {
+
+// An interleaved RGB float image, rows top to bottom.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> pixels;  // width * height * 3
+
+  float* at(int x, int y) { return pixels.data() + (static_cast<size_t>(y) * width + x) * 3; }
+  const float* at(int x, int y) const {
+    return pixels.data() + (static_cast<size_t>(y) * width + x) * 3;
+  }
+};
+
+// Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped.
+// Values are as stored: linear radiance for HDR/EXR; for 8-bit formats (sRGB-encoded) pass
+// `decode_srgb` to convert them to linear. Throws facetool::Error naming the file.
+RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
+
+// sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
+float linear_to_srgb(float linear);
+float srgb_to_linear(float encoded);
+
+// Writes `rgb` (linear values, clamped to [0, 1], sRGB-encoded on the way) as an 8-bit PNG,
+// atomically (temporary name, then rename).
+void write_png_atomically(const std::string& path, const RgbImage& rgb);
+
+}  // namespace facetool

@@ -1,0 +1,195 @@
+// safetensors: parsing with full validation, and atomic writing.
+#include "core/model/safetensors.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+#include "core/io/atomic_file.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace {
+
+constexpr uint64_t kMaxHeaderBytes = 100u << 20;  // the reference implementation's limit
+
+size_t dtype_size(const std::string& dtype) {
+  static const std::map<std::string, size_t> sizes = {
+      {"F64", 8}, {"F32", 4}, {"F16", 2}, {"BF16", 2}, {"I64", 8}, {"I32", 4}, {"I16", 2},
+      {"I8", 1},  {"U64", 8}, {"U32", 4}, {"U16", 2},  {"U8", 1},  {"BOOL", 1}};
+  auto it = sizes.find(dtype);
+  return it == sizes.end() ? 0 : it->second;
+}
+
+uint64_t read_u64_le(const uint8_t* p) {
+  uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+
+}  // namespace
+
+SafeTensors SafeTensors::read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  check(in.good(), "cannot open weights file '", path, "': ",
+        std::filesystem::exists(path) ? "permission denied or not a file" : "no such file");
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse(bytes.data(), bytes.size(), path);
+}
+
+SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::string& what) {
+  auto bad = [&](const auto&... parts) { fail("'", what, "' is not a valid safetensors file: ", parts...); };
+  if (size < 8) bad("it holds ", size, " bytes, fewer than the 8-byte header length");
+  const uint64_t header_len = read_u64_le(bytes);
+  if (header_len > kMaxHeaderBytes) bad("header length ", header_len, " exceeds ", kMaxHeaderBytes);
+  if (header_len > size - 8)
+    bad("header length ", header_len, " runs past the end of the file (", size, " bytes); ",
+        "the file is truncated");
+  nlohmann::json header;
+  try {
+    header = nlohmann::json::parse(bytes + 8, bytes + 8 + header_len);
+  } catch (const nlohmann::json::exception& e) {
+    bad("the JSON header does not parse (", e.what(), ")");
+  }
+  if (!header.is_object()) bad("the JSON header is not an object");
+
+  SafeTensors st;
+  st.what_ = what;
+  const uint64_t data_size = size - 8 - header_len;
+  std::vector<std::pair<uint64_t, uint64_t>> ranges;
+  for (auto it = header.begin(); it != header.end(); ++it) {
+    const std::string& name = it.key();
+    const nlohmann::json& value = it.value();
+    if (name == "__metadata__") {
+      if (!value.is_object()) bad("__metadata__ is not an object");
+      for (auto m = value.begin(); m != value.end(); ++m) {
+        if (!m.value().is_string()) bad("metadata value of '", m.key(), "' is not a string");
+        st.metadata_[m.key()] = m.value().get<std::string>();
+      }
+      continue;
+    }
+    if (!value.is_object()) bad("entry '", name, "' is not an object");
+    Entry e;
+    e.name = name;
+    auto dtype = value.find("dtype");
+    auto shape = value.find("shape");
+    auto offsets = value.find("data_offsets");
+    if (dtype == value.end() || !dtype->is_string()) bad("tensor '", name, "' has no dtype string");
+    if (shape == value.end() || !shape->is_array()) bad("tensor '", name, "' has no shape array");
+    if (offsets == value.end() || !offsets->is_array() || offsets->size() != 2)
+      bad("tensor '", name, "' has no [begin, end] data_offsets");
+    e.dtype = dtype->get<std::string>();
+    const size_t elem = dtype_size(e.dtype);
+    if (elem == 0) bad("tensor '", name, "' has unknown dtype '", e.dtype, "'");
+    uint64_t count = 1;
+    for (const auto& d : *shape) {
+      if (!d.is_number_unsigned()) bad("tensor '", name, "' has a shape entry that is not a ",
+                                       "non-negative integer");
+      const uint64_t dim = d.get<uint64_t>();
+      if (dim != 0 && count > std::numeric_limits<uint64_t>::max() / dim / elem)
+        bad("tensor '", name, "' has a shape whose size overflows");
+      count *= dim;
+      e.shape.push_back(static_cast<int64_t>(std::min<uint64_t>(dim, INT64_MAX)));
+    }
+    for (const auto& o : *offsets)
+      if (!o.is_number_unsigned()) bad("tensor '", name, "' has a non-integer data offset");
+    e.begin = (*offsets)[0].get<uint64_t>();
+    e.end = (*offsets)[1].get<uint64_t>();
+    if (e.begin > e.end || e.end > data_size)
+      bad("tensor '", name, "' has data_offsets [", e.begin, ", ", e.end, "] outside the ",
+          data_size, " data bytes (truncated file?)");
+    if (e.end - e.begin != count * elem)
+      bad("tensor '", name, "' holds ", e.end - e.begin, " bytes but its shape and dtype need ",
+          count * elem);
+    ranges.emplace_back(e.begin, e.end);
+    st.entries_.emplace(name, std::move(e));
+  }
+  std::sort(ranges.begin(), ranges.end());
+  for (size_t i = 1; i < ranges.size(); ++i)
+    if (ranges[i].first < ranges[i - 1].second) bad("two tensors share data bytes");
+  st.data_.assign(bytes + 8 + header_len, bytes + size);
+  return st;
+}
+
+std::vector<std::string> SafeTensors::names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, entry] : entries_) out.push_back(name);
+  return out;
+}
+
+const SafeTensors::Entry& SafeTensors::entry(const std::string& name) const {
+  auto it = entries_.find(name);
+  check(it != entries_.end(), "'", what_, "' has no tensor named '", name, "'");
+  return it->second;
+}
+
+std::vector<float> SafeTensors::floats(const std::string& name) const {
+  const Entry& e = entry(name);
+  check(e.dtype == "F32", "tensor '", name, "' in '", what_, "' has dtype ", e.dtype,
+        " but facetool needs F32");
+  std::vector<float> values((e.end - e.begin) / 4);
+  const uint8_t* p = data_.data() + e.begin;
+  for (size_t i = 0; i < values.size(); ++i, p += 4) {
+    const uint32_t bits = uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 |
+                          uint32_t(p[3]) << 24;
+    std::memcpy(&values[i], &bits, 4);
+  }
+  return values;
+}
+
+void SafeTensorsWriter::add(const std::string& name, const std::vector<int64_t>& shape,
+                            std::vector<float> values) {
+  check(name != "__metadata__" && !name.empty(), "safetensors: invalid tensor name '", name, "'");
+  int64_t count = 1;
+  for (int64_t d : shape) count *= d;
+  check(count == static_cast<int64_t>(values.size()), "safetensors: tensor '", name, "' has ",
+        values.size(), " values but its shape needs ", count);
+  check(tensors_.emplace(name, Pending{shape, std::move(values)}).second,
+        "safetensors: tensor '", name, "' added twice");
+}
+
+std::vector<uint8_t> SafeTensorsWriter::serialize() const {
+  nlohmann::json header = nlohmann::json::object();
+  if (!metadata_.empty()) header["__metadata__"] = metadata_;
+  uint64_t offset = 0;
+  for (const auto& [name, t] : tensors_) {
+    const uint64_t bytes = t.values.size() * 4;
+    header[name] = {{"dtype", "F32"}, {"shape", t.shape}, {"data_offsets", {offset, offset + bytes}}};
+    offset += bytes;
+  }
+  std::string text = header.dump();
+  while ((8 + text.size()) % 8 != 0) text.push_back(' ');  // align the data to 8 bytes
+  std::vector<uint8_t> out(8 + text.size() + offset);
+  const uint64_t n = text.size();
+  for (int i = 0; i < 8; ++i) out[i] = static_cast<uint8_t>(n >> (8 * i));
+  std::memcpy(out.data() + 8, text.data(), text.size());
+  uint8_t* p = out.data() + 8 + text.size();
+  for (const auto& [name, t] : tensors_) {
+    for (float v : t.values) {
+      uint32_t bits;
+      std::memcpy(&bits, &v, 4);
+      for (int i = 0; i < 4; ++i) *p++ = static_cast<uint8_t>(bits >> (8 * i));
+    }
+  }
+  return out;
+}
+
+void SafeTensorsWriter::write_file(const std::string& path) const {
+  const std::vector<uint8_t> bytes = serialize();
+  write_atomically(path, [&](const std::string& temporary) {
+    FILE* f = std::fopen(temporary.c_str(), "wb");
+    check(f != nullptr, "cannot write '", path, "': ", std::strerror(errno),
+          " (does the folder exist and is it writable?)");
+    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    const bool closed = std::fclose(f) == 0;
+    check(ok && closed, "cannot write '", path, "': ", std::strerror(errno), " (disk full?)");
+  });
+}
+
+}  // namespace facetool

@@ -1,0 +1,46 @@
+// NetworkPlugin: the interface of network plugins (image in; albedo, normal, visibility, light out).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/autograd/variable.h"
+#include "core/plugin/plugin.h"
+
+namespace facetool {
+
+// Architecture hyper-parameters, stored with the weights (safetensors metadata).
+struct NetworkConfig {
+  int width = 128;       // channels of the 64x64 trunk (the paper: 128); other layers scale with it
+  int input_size = 128;  // square input resolution (the paper: 128); must be divisible by 2
+};
+
+// Per image: albedo [N,3,S,S] in [0,1], unit normal [N,3,S,S], visibility SH [N,9,S,S],
+// light SH [N,27] (9 per RGB channel, channel-major).
+struct NetworkOutputs {
+  ag::Variable albedo;
+  ag::Variable normal;
+  ag::Variable visibility;
+  ag::Variable light;
+};
+
+class NetworkPlugin : public Plugin {
+ public:
+  ~NetworkPlugin() override;
+  // Creates the parameters and state for `config` on `backend` (values uninitialised).
+  virtual void build(Backend& backend, const NetworkConfig& config) = 0;
+  virtual const NetworkConfig& config() const = 0;
+  // Every learnable parameter with its stable name (the safetensors key), in a fixed order.
+  virtual std::vector<std::pair<std::string, ag::Variable>> parameters() const = 0;
+  // Non-learnable state (batch-norm running statistics) with its names.
+  virtual std::vector<std::pair<std::string, Tensor>> buffers() const = 0;
+  // Reproducible initial weights: Kaiming-normal convolutions, unit/zero batch norms.
+  virtual void init_random(uint64_t seed) = 0;
+  // images [N,3,S,S], RGB in [0,1]. `training` selects batch statistics in batch norm (and
+  // updates the running ones).
+  virtual NetworkOutputs forward(const ag::Variable& images, bool training) = 0;
+};
+
+}  // namespace facetool

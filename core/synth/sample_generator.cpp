@@ -1,0 +1,167 @@
+// One sample from a seed: the generator's pipeline in order.
+#include "core/synth/sample_generator.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/synth/gbuffer.h"
+#include "core/synth/ray_scene.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace {
+
+// Sub-streams of a sample's seed: changing how one part draws never shifts the others.
+enum Stream : uint64_t { kShape = 1, kAlbedo, kPose, kCamera, kLight, kBackground };
+
+const FaceMesh& reference_mesh(const FaceSource& faces) {
+  check((faces.model != nullptr) != (faces.mesh != nullptr),
+        "SampleGenerator: give either a face model or a mesh");
+  return faces.model ? faces.model->neutral() : *faces.mesh;
+}
+
+std::string describe_shape(const FaceModel& model, const ShapeWeights& weights) {
+  std::string text = "identity[";
+  char buffer[64];
+  for (size_t k = 0; k < weights.identity.size(); ++k) {
+    std::snprintf(buffer, sizeof(buffer), "%s%.4g", k ? " " : "", weights.identity[k]);
+    text += buffer;
+  }
+  text += "] expressions[";
+  bool first = true;
+  for (size_t k = 0; k < weights.expression.size(); ++k) {
+    if (weights.expression[k] == 0.0f) continue;
+    std::snprintf(buffer, sizeof(buffer), "%s%s=%.4g", first ? "" : " ",
+                  model.expression_names()[k].c_str(), weights.expression[k]);
+    text += buffer;
+    first = false;
+  }
+  return text + "]";
+}
+
+// Renders the masked pixels (gathered into compact planes) and scatters the result into
+// `image`, leaving other pixels alone. Returns the largest channel value rendered.
+float render_masked(const ComponentRenderer& renderer, const SynthSample& s,
+                    const std::vector<int>& pixels, const sh::RgbLight& light,
+                    std::vector<float>& image) {
+  const int n = static_cast<int>(pixels.size());
+  if (n == 0) return 0.0f;
+  const size_t plane = s.plane();
+  std::vector<float> albedo(3 * n), normal(3 * n), visibility(9 * n), out(3 * n);
+  for (int k = 0; k < n; ++k) {
+    for (int c = 0; c < 3; ++c) {
+      albedo[c * n + k] = s.albedo[c * plane + pixels[k]];
+      normal[c * n + k] = s.normal[c * plane + pixels[k]];
+    }
+    for (int i = 0; i < 9; ++i) visibility[i * n + k] = s.visibility[i * plane + pixels[k]];
+  }
+  renderer.render(n, albedo.data(), normal.data(), visibility.data(), light, out.data());
+  float peak = 0.0f;
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) {
+      image[c * plane + pixels[k]] = out[c * n + k];
+      peak = std::max(peak, out[c * n + k]);
+    }
+  return peak;
+}
+
+}  // namespace
+
+SampleGenerator::SampleGenerator(FaceSource faces, std::vector<LightSource> lights,
+                                 BackgroundSource backgrounds,
+                                 std::shared_ptr<const ComponentRenderer> renderer,
+                                 SynthSettings settings)
+    : faces_(std::move(faces)),
+      lights_(std::move(lights)),
+      backgrounds_(std::move(backgrounds)),
+      renderer_(std::move(renderer)),
+      settings_(settings),
+      albedo_model_(reference_mesh(faces_),
+                    faces_.model ? faces_.model->landmarks() : std::vector<int32_t>{}),
+      visibility_(settings.direction_count) {
+  check(!lights_.empty(), "SampleGenerator: no light sources");
+  check(renderer_ != nullptr, "SampleGenerator: no renderer");
+  check(settings_.camera.width > 0 && settings_.camera.height > 0, "image size must be positive, got ",
+        settings_.camera.width, "x", settings_.camera.height);
+}
+
+SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
+  SynthSample s;
+  s.run_seed = run_seed;
+  s.index = index;
+  s.sample_seed = derive_seed(run_seed, static_cast<uint64_t>(index));
+  auto stream = [&](Stream which) { return Random(derive_seed(s.sample_seed, which)); };
+
+  // Shape and albedo.
+  FaceMesh mesh;
+  if (faces_.model) {
+    Random random = stream(kShape);
+    const ShapeWeights weights = faces_.model->sample(random, settings_.shape);
+    mesh = faces_.model->build(weights);
+    s.shape = describe_shape(*faces_.model, weights);
+  } else {
+    mesh = *faces_.mesh;
+    s.shape = "fixed mesh";
+  }
+  Random albedo_random = stream(kAlbedo);
+  const AlbedoParams albedo_params = sample_albedo(albedo_random);
+
+  // Pose and camera.
+  Random pose_random = stream(kPose);
+  s.pose = sample_pose(pose_random, settings_.pose);
+  apply_pose(mesh, s.pose);
+  Random camera_random = stream(kCamera);
+  const Camera camera = sample_camera(camera_random, settings_.camera);
+  s.fov_deg = camera.horizontal_fov_deg;
+  s.width = camera.width;
+  s.height = camera.height;
+
+  // Geometry buffers and visibility.
+  const std::vector<Vec3f> normals = vertex_normals(mesh);
+  const RayScene scene(mesh.positions, mesh.triangles);
+  const GBuffer g = cast_primary_rays(scene, mesh, normals, camera);
+  const size_t plane = s.plane();
+  s.image.assign(3 * plane, 0.0f);
+  s.albedo.assign(3 * plane, 0.0f);
+  s.normal.assign(3 * plane, 0.0f);
+  s.mask.assign(plane, 0.0f);
+  s.visibility.assign(9 * plane, 0.0f);
+  s.depth.assign(plane, 0.0f);
+  std::vector<int> masked;
+  for (size_t p = 0; p < plane; ++p) {
+    if (!g.mask[p]) continue;
+    masked.push_back(static_cast<int>(p));
+    s.mask[p] = 1.0f;
+    s.depth[p] = g.depth[p];
+    const Vec3f albedo = albedo_model_.evaluate(albedo_params, g.part[p], g.reference[p]);
+    float visibility[9];
+    s.rays_cast += visibility_.integrate(scene, g.position[p], g.normal[p], settings_.ray_offset,
+                                         visibility);
+    for (int c = 0; c < 3; ++c) {
+      s.albedo[c * plane + p] = albedo[c];
+      s.normal[c * plane + p] = g.normal[p][c];
+    }
+    for (int i = 0; i < 9; ++i) s.visibility[i * plane + p] = visibility[i];
+  }
+
+  // Light: scale so the brightest face pixel is the drawn target, then render for real.
+  Random light_random = stream(kLight);
+  const SampledLight light = sample_light(light_random, lights_, settings_.light);
+  const LightSource& source = lights_[light.source];
+  s.light_source = source.name;
+  const float peak = render_masked(*renderer_, s, masked, light.light, s.image);
+  const double scale = peak > 0.0f ? light.target_peak / peak : 1.0;
+  s.light = scale_light(light.light, scale);
+  render_masked(*renderer_, s, masked, s.light, s.image);
+
+  // Background outside the mask.
+  Random background_random = stream(kBackground);
+  std::vector<float> background;
+  backgrounds_.fill(background_random, camera, source, light, scale, background);
+  for (size_t p = 0; p < plane; ++p)
+    if (!g.mask[p])
+      for (int c = 0; c < 3; ++c) s.image[c * plane + p] = background[c * plane + p];
+  return s;
+}
+
+}  // namespace facetool

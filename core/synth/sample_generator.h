@@ -1,0 +1,57 @@
+// SampleGenerator: everything needed to turn (run seed, sample index) into one SynthSample:
+// shape, albedo, pose, camera, Embree G-buffer and visibility, light, rendered image, background.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "core/synth/albedo.h"
+#include "core/synth/background.h"
+#include "core/synth/component_renderer.h"
+#include "core/synth/face_model.h"
+#include "core/synth/light_source.h"
+#include "core/synth/pose_camera.h"
+#include "core/synth/synth_sample.h"
+#include "core/synth/visibility.h"
+
+namespace facetool {
+
+struct SynthSettings {
+  CameraSampling camera;
+  PoseSampling pose;
+  ShapeSampling shape;
+  LightSampling light;
+  int direction_count = 872;  // visibility directions (paper)
+  float ray_offset = 1e-3f;   // visibility rays start this far along the normal ([-1, 1] units)
+};
+
+// Where faces come from: random ICT Face Model shapes, or one fixed mesh (--mesh).
+struct FaceSource {
+  std::shared_ptr<const FaceModel> model;
+  std::shared_ptr<const FaceMesh> mesh;
+};
+
+class SampleGenerator {
+ public:
+  SampleGenerator(FaceSource faces, std::vector<LightSource> lights, BackgroundSource backgrounds,
+                  std::shared_ptr<const ComponentRenderer> renderer, SynthSettings settings);
+
+  // Sample `index` of the run with seed `run_seed`. Depends on nothing else (not on threads,
+  // shards or other samples), and may be called from several threads at once.
+  SynthSample generate(uint64_t run_seed, int64_t index) const;
+
+  const SynthSettings& settings() const { return settings_; }
+  const std::vector<LightSource>& lights() const { return lights_; }
+  const ComponentRenderer& renderer() const { return *renderer_; }
+
+ private:
+  FaceSource faces_;
+  std::vector<LightSource> lights_;
+  BackgroundSource backgrounds_;
+  std::shared_ptr<const ComponentRenderer> renderer_;
+  SynthSettings settings_;
+  AlbedoModel albedo_model_;
+  VisibilitySampler visibility_;
+};
+
+}  // namespace facetool

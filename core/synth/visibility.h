@@ -1,0 +1,34 @@
+// Per-point visibility projected onto the 9 SH: rays in N nearly uniform directions, only those
+// above the surface cast (the rest are occluded by definition), occlusion tested by Embree.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/synth/ray_scene.h"
+#include "core/synth/vec3.h"
+
+namespace facetool {
+
+class VisibilitySampler {
+ public:
+  // `direction_count` directions of sh::fibonacci_sphere (the paper uses 872).
+  explicit VisibilitySampler(int direction_count);
+
+  int direction_count() const { return static_cast<int>(dir_x_.size()); }
+
+  // v_i = 4 pi / N * sum over directions d with d.n > 0 whose ray from p + offset * n is not
+  // blocked of Y_i(d). Writes 9 coefficients to `out`; returns the number of rays cast.
+  int64_t integrate(const RayScene& scene, Vec3f p, Vec3f n, float offset, float out[9]) const;
+
+  // The same sum with no geometry at all (every upper-hemisphere direction open): the sampled
+  // hemisphere whose continuous counterpart has analytic coefficients.
+  void open_hemisphere(Vec3f n, float out[9]) const;
+
+ private:
+  std::vector<float> dir_x_, dir_y_, dir_z_;
+  std::vector<float> basis_;  // 9 per direction, Y_i(d) from the SH library
+  float weight_;              // 4 pi / N
+};
+
+}  // namespace facetool

@@ -1,0 +1,150 @@
+// parallel_for: a persistent pool of worker threads that claim chunks of a range dynamically.
+#include "core/util/parallel_for.h"
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace facetool {
+namespace {
+
+thread_local int tls_slot = 0;
+thread_local bool tls_inside_parallel = false;
+
+int configured_thread_count() {
+  if (const char* env = std::getenv("FACETOOL_NUM_THREADS")) {
+    const int n = std::atoi(env);
+    if (n > 0) return std::min(n, 256);
+  }
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw == 0 ? 1 : static_cast<int>(std::min(hw, 256u));
+}
+
+// One parallel_for call in flight: workers and the caller claim chunk indices from `next`.
+struct Job {
+  const std::function<void(int64_t, int64_t)>* fn = nullptr;
+  int64_t n = 0;
+  int64_t chunk = 1;
+  int64_t chunks = 0;
+  std::atomic<int64_t> next{0};
+  std::atomic<int64_t> done{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+
+  void run_chunks() {
+    for (;;) {
+      const int64_t c = next.fetch_add(1);
+      if (c >= chunks) return;
+      const int64_t begin = c * chunk;
+      const int64_t end = std::min(n, begin + chunk);
+      try {
+        (*fn)(begin, end);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+      done.fetch_add(1);
+    }
+  }
+};
+
+class ThreadPool {
+ public:
+  explicit ThreadPool(int threads) : threads_(threads) {
+    for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+  }
+  ~ThreadPool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : workers_) t.join();
+  }
+
+  int threads() const { return threads_; }
+
+  void run(Job& job) {
+    std::lock_guard<std::mutex> serial(run_mutex_);  // one job at a time
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      job_ = &job;
+      ++generation_;
+    }
+    wake_.notify_all();
+    tls_inside_parallel = true;
+    job.run_chunks();
+    tls_inside_parallel = false;
+    std::unique_lock<std::mutex> lock(mutex_);
+    finished_.wait(lock, [&] { return job.done.load() == job.chunks && busy_workers_ == 0; });
+    job_ = nullptr;
+  }
+
+ private:
+  void worker_loop(int slot) {
+    tls_slot = slot;
+    tls_inside_parallel = true;
+    uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stopping_ || (job_ != nullptr && generation_ != seen); });
+      if (stopping_) return;
+      seen = generation_;
+      Job* job = job_;
+      ++busy_workers_;
+      lock.unlock();
+      job->run_chunks();
+      lock.lock();
+      --busy_workers_;
+      finished_.notify_all();
+    }
+  }
+
+  int threads_;
+  std::vector<std::thread> workers_;
+  std::mutex run_mutex_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable finished_;
+  Job* job_ = nullptr;
+  uint64_t generation_ = 0;
+  int busy_workers_ = 0;
+  bool stopping_ = false;
+};
+
+ThreadPool& pool() {
+  static ThreadPool* p = new ThreadPool(configured_thread_count());  // lives until exit
+  return *p;
+}
+
+}  // namespace
+
+int parallel_thread_count() { return pool().threads(); }
+
+int parallel_thread_slot() { return tls_slot; }
+
+void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& fn) {
+  if (n <= 0) return;
+  grain = std::max<int64_t>(grain, 1);
+  ThreadPool& p = pool();
+  if (p.threads() == 1 || n <= grain || tls_inside_parallel) {
+    fn(0, n);
+    return;
+  }
+  // About four chunks per thread for load balance, never smaller than `grain`.
+  const int64_t target_chunks = static_cast<int64_t>(p.threads()) * 4;
+  Job job;
+  job.fn = &fn;
+  job.n = n;
+  job.chunk = std::max(grain, (n + target_chunks - 1) / target_chunks);
+  job.chunks = (n + job.chunk - 1) / job.chunk;
+  p.run(job);
+  if (job.error) std::rethrow_exception(job.error);
+}
+
+}  // namespace facetool

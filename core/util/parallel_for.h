@@ -1,0 +1,23 @@
+// A small persistent thread pool and parallel_for over index ranges.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+namespace facetool {
+
+// Number of threads parallel_for uses (the calling thread included): FACETOOL_NUM_THREADS when
+// set to a positive number, otherwise std::thread::hardware_concurrency().
+int parallel_thread_count();
+
+// Which of the parallel_for threads is running the caller: 0 for the calling (outside) thread,
+// 1 .. parallel_thread_count()-1 for pool workers. Useful for per-thread scratch buffers.
+int parallel_thread_slot();
+
+// Runs fn(begin, end) over disjoint chunks covering [0, n), each at least `grain` items long
+// (except possibly the last), on the pool's threads and the calling thread; returns when all are
+// done. Runs inline when n is small, when there is one thread, or when called from inside
+// another parallel_for. The first exception thrown by fn is rethrown here after all chunks end.
+void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& fn);
+
+}  // namespace facetool

@@ -1,0 +1,31 @@
+// Shared libraries loaded at run time, and the folders facetool searches for them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace facetool {
+
+// A dlopen'ed library. Never unloaded: code from it may still be referenced at exit.
+class SharedLibrary {
+ public:
+  // Throws facetool::Error naming the file and the loader's message if it cannot be opened.
+  static SharedLibrary open(const std::string& path);
+  // The address of `symbol`, or nullptr if the library does not export it.
+  void* symbol(const std::string& symbol) const;
+  const std::string& path() const { return path_; }
+
+ private:
+  SharedLibrary(void* handle, std::string path) : handle_(handle), path_(std::move(path)) {}
+  void* handle_ = nullptr;
+  std::string path_;
+};
+
+// The folder holding the running executable ("" if it cannot be determined).
+std::string executable_dir();
+// Splits a ':'-separated list such as an environment variable's value; empty parts are dropped.
+std::vector<std::string> split_path_list(const std::string& list);
+// Regular files in `dir` whose names end with `suffix`, sorted; empty if `dir` does not exist.
+std::vector<std::string> files_with_suffix(const std::string& dir, const std::string& suffix);
+
+}  // namespace facetool

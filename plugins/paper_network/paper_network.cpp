@@ -1,0 +1,107 @@
+// The paper's network: layer wiring, deterministic initialisation and the forward pass.
+#include "plugins/paper_network/paper_network.h"
+
+#include <cmath>
+#include <random>
+
+#include "core/util/error.h"
+
+namespace facetool::paper_network {
+
+ResidualStack::ResidualStack(Backend& be, ParameterSet& set, const std::string& name,
+                             int64_t channels) {
+  for (size_t i = 0; i < blocks_.size(); ++i)
+    blocks_[i] = ResidualBlock(be, set, name + ".block" + std::to_string(i), channels);
+  bn_ = BatchNorm(be, set, name + ".bn", channels);
+}
+
+ag::Variable ResidualStack::operator()(const ag::Variable& x, bool training) const {
+  ag::Variable h = x;
+  for (const ResidualBlock& block : blocks_) h = block(h, training);
+  return ag::leaky_relu(bn_(h, training), kLeakySlope);
+}
+
+Decoder::Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_t channels,
+                 int64_t out)
+    : conv1_(be, set, name + ".layer1", channels, channels, 3),
+      conv2_(be, set, name + ".layer2", channels, channels / 2, 3),
+      out_(be, set, name + ".out", channels / 2, out, 1, 1, 1.0f) {}
+
+ag::Variable Decoder::operator()(const ag::Variable& x, bool training) const {
+  return out_(conv2_(conv1_(ag::upsample_bilinear2x(x), training), training));
+}
+
+void PaperNetwork::build(Backend& be, const NetworkConfig& config) {
+  check(!built_, "paper_network: build() called twice");
+  check(config.width >= 2 && config.width % 2 == 0, "paper_network: width must be an even ",
+        "number >= 2, got ", config.width);
+  check(config.input_size >= 2 && config.input_size % 2 == 0, "paper_network: input size must ",
+        "be an even number >= 2, got ", config.input_size);
+  config_ = config;
+  const int64_t c = config.width;
+  stem1_ = ConvBnRelu(be, set_, "encoder.layer1", 3, c / 2, 7);
+  stem2_ = ConvBnRelu(be, set_, "encoder.layer2", c / 2, c, 3);
+  stem_down_ = Conv(be, set_, "encoder.down", c, c, 3, 2, leaky_relu_gain());
+  albedo_residual_ = ResidualStack(be, set_, "albedo_residual", c);
+  shape_residual_ = ResidualStack(be, set_, "shape_residual", c);
+  albedo_decoder_ = Decoder(be, set_, "albedo_decoder", c, 3);
+  shape_decoder_ = Decoder(be, set_, "shape_decoder", c, 12);
+  light_conv_ = ConvBnRelu(be, set_, "light.layer1", 3 * c, c, 1);
+  light_fc_ = Linear(be, set_, "light.fc", c, 27);
+  built_ = true;
+}
+
+std::vector<std::pair<std::string, ag::Variable>> PaperNetwork::parameters() const {
+  return set_.parameters;
+}
+
+std::vector<std::pair<std::string, Tensor>> PaperNetwork::buffers() const { return set_.buffers; }
+
+void PaperNetwork::init_random(uint64_t seed) {
+  check(built_, "paper_network: init_random() before build()");
+  // Box-Muller on a fixed generator, so the same seed gives the same weights on every platform
+  // (std::normal_distribution's algorithm is implementation-defined).
+  std::mt19937_64 rng(seed);
+  auto uniform = [&rng] { return (static_cast<double>(rng() >> 11) + 0.5) * 0x1.0p-53; };
+  for (const ParameterSet::InitRule& rule : set_.init) {
+    const Tensor& t = set_.parameters[rule.index].second.value();
+    std::vector<float> values(static_cast<size_t>(t.numel()), rule.fill);
+    if (rule.gain > 0.0f) {
+      const double std_dev = rule.gain / std::sqrt(static_cast<double>(rule.fan_in));
+      for (size_t i = 0; i < values.size(); i += 2) {
+        const double r = std::sqrt(-2.0 * std::log(uniform()));
+        const double angle = 2.0 * M_PI * uniform();
+        values[i] = static_cast<float>(std_dev * r * std::cos(angle));
+        if (i + 1 < values.size()) values[i + 1] = static_cast<float>(std_dev * r * std::sin(angle));
+      }
+    }
+    t.copy_from_host(values);
+  }
+  for (auto& [name, buffer] : set_.buffers) {
+    const bool is_var = name.size() >= 11 && name.compare(name.size() - 11, 11, "running_var") == 0;
+    buffer.copy_from_host(std::vector<float>(static_cast<size_t>(buffer.numel()), is_var ? 1.0f : 0.0f));
+  }
+}
+
+NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) {
+  check(built_, "paper_network: forward() before build()");
+  const Shape& s = images.shape();
+  check(s.rank() == 4 && s.c() == 3 && s.h() == config_.input_size && s.w() == config_.input_size,
+        "paper_network: expected images of shape [N, 3, ", config_.input_size, ", ",
+        config_.input_size, "], got ", s.str());
+  ag::Variable h = stem2_(stem1_(images, training), training);
+  ag::Variable features = ag::leaky_relu(stem_down_(h), kLeakySlope);
+  ag::Variable albedo_features = albedo_residual_(features, training);
+  ag::Variable shape_features = shape_residual_(features, training);
+
+  NetworkOutputs out;
+  out.albedo = ag::sigmoid(albedo_decoder_(albedo_features, training));
+  ag::Variable shape = shape_decoder_(shape_features, training);
+  out.normal = ag::l2_normalize(ag::slice_channels(shape, 0, 3));
+  out.visibility = ag::slice_channels(shape, 3, 9);
+  ag::Variable joint = ag::concat_channels({features, albedo_features, shape_features});
+  out.light = light_fc_(ag::global_avg_pool(light_conv_(joint, training)));
+  return out;
+}
+
+}  // namespace facetool::paper_network

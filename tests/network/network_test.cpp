@@ -1,0 +1,237 @@
+// The paper network plugin: output shapes, parameter count, weights files, gradients, parity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "core/autograd/functions.h"
+#include "core/model/network_weights.h"
+#include "core/plugin/network_plugin.h"
+#include "core/plugin/plugin_loader.h"
+#include "core/util/error.h"
+#include "tests/support/test_support.h"
+
+namespace facetool {
+namespace {
+
+using testing::all_close;
+using testing::random_tensor;
+
+std::shared_ptr<NetworkPlugin> make_network(Backend& be, NetworkConfig config, uint64_t seed) {
+  static PluginLoader loader;
+  static const PluginInfo& info = loader.load_file(FACETOOL_PAPER_NETWORK_PLUGIN);
+  auto plugin = std::dynamic_pointer_cast<NetworkPlugin>(loader.create(info));
+  EXPECT_NE(plugin, nullptr);
+  plugin->build(be, config);
+  plugin->init_random(seed);
+  return plugin;
+}
+
+int64_t count_parameters(const NetworkPlugin& net) {
+  int64_t total = 0;
+  for (const auto& [name, v] : net.parameters()) total += v.value().numel();
+  return total;
+}
+
+// The paper's architecture counted layer by layer (every convolution has a bias).
+int64_t expected_parameter_count(int64_t c) {
+  auto conv = [](int64_t in, int64_t out, int64_t k) { return in * out * k * k + out; };
+  auto bn = [](int64_t ch) { return 2 * ch; };
+  const int64_t stem = conv(3, c / 2, 7) + bn(c / 2) + conv(c / 2, c, 3) + bn(c) + conv(c, c, 3);
+  const int64_t block = bn(c) + conv(c, c, 3) + bn(c) + conv(c, c, 3);
+  const int64_t residual = 5 * block + bn(c);
+  auto decoder = [&](int64_t out) {
+    return conv(c, c, 3) + bn(c) + conv(c, c / 2, 3) + bn(c / 2) + conv(c / 2, out, 1);
+  };
+  const int64_t light = conv(3 * c, c, 1) + bn(c) + (c * 27 + 27);
+  return stem + 2 * residual + decoder(3) + decoder(12) + light;
+}
+
+TEST(PaperNetwork, PaperConfigurationHas3_69MillionParameters) {
+  auto net = make_network(get_backend("cpu"), NetworkConfig{128, 128}, 1);
+  EXPECT_EQ(count_parameters(*net), expected_parameter_count(128));
+  EXPECT_EQ(count_parameters(*net), 3686122);  // the paper's 3.69 M
+}
+
+TEST(PaperNetwork, OutputShapesForPaperAndSmallConfigurations) {
+  for (NetworkConfig config : {NetworkConfig{128, 128}, NetworkConfig{16, 32}}) {
+    Backend& be = get_backend("cpu");
+    auto net = make_network(be, config, 2);
+    EXPECT_EQ(count_parameters(*net), expected_parameter_count(config.width));
+    const int64_t s = config.input_size;
+    ag::Variable images(random_tensor(be, Shape{2, 3, s, s}, 3, 0.0f, 1.0f));
+    NetworkOutputs out = net->forward(images, false);
+    EXPECT_EQ(out.albedo.shape(), (Shape{2, 3, s, s}));
+    EXPECT_EQ(out.normal.shape(), (Shape{2, 3, s, s}));
+    EXPECT_EQ(out.visibility.shape(), (Shape{2, 9, s, s}));
+    EXPECT_EQ(out.light.shape(), (Shape{2, 27}));
+    // Albedo lies in (0, 1); normals have unit length.
+    for (float a : out.albedo.value().to_host()) ASSERT_TRUE(a > 0.0f && a < 1.0f);
+    std::vector<float> n = out.normal.value().to_host();
+    const int64_t plane = s * s;
+    for (int64_t i = 0; i < plane; i += 7) {
+      const float len = std::sqrt(n[i] * n[i] + n[plane + i] * n[plane + i] +
+                                  n[2 * plane + i] * n[2 * plane + i]);
+      ASSERT_NEAR(len, 1.0f, 1e-5f);
+    }
+  }
+}
+
+TEST(PaperNetwork, WrongInputShapeIsAClearError) {
+  Backend& be = get_backend("cpu");
+  auto net = make_network(be, NetworkConfig{8, 16}, 4);
+  ag::Variable images(random_tensor(be, Shape{1, 3, 32, 32}, 5));
+  try {
+    net->forward(images, false);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("[1, 3, 32, 32]"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PaperNetwork, SameSeedSameWeights) {
+  Backend& be = get_backend("cpu");
+  auto a = make_network(be, NetworkConfig{8, 16}, 77);
+  auto b = make_network(be, NetworkConfig{8, 16}, 77);
+  auto c = make_network(be, NetworkConfig{8, 16}, 78);
+  auto pa = a->parameters(), pb = b->parameters(), pc = c->parameters();
+  EXPECT_EQ(pa[0].second.value().to_host(), pb[0].second.value().to_host());
+  EXPECT_NE(pa[0].second.value().to_host(), pc[0].second.value().to_host());
+  // Kaiming normal: the first convolution's weights have std gain / sqrt(fan_in).
+  std::vector<float> w = pa[0].second.value().to_host();  // [4, 3, 7, 7]
+  double sum2 = 0;
+  for (float v : w) sum2 += double(v) * v;
+  const double expected_std = std::sqrt(2.0 / (1.0 + 0.04)) / std::sqrt(3.0 * 49.0);
+  EXPECT_NEAR(std::sqrt(sum2 / w.size()), expected_std, 0.15 * expected_std);
+}
+
+TEST(PaperNetwork, WeightsRoundTripAndMismatchErrors) {
+  Backend& be = get_backend("cpu");
+  auto net = make_network(be, NetworkConfig{8, 16}, 6);
+  const auto dir = std::filesystem::temp_directory_path() / "facetool_network_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "net.safetensors").string();
+  save_network_weights(*net, "paper_network", path);
+
+  SafeTensors file = SafeTensors::read_file(path);
+  WeightsHeader header = read_weights_header(file, path);
+  EXPECT_EQ(header.architecture, "paper_network");
+  EXPECT_EQ(header.config.width, 8);
+  EXPECT_EQ(header.config.input_size, 16);
+  auto copy = make_network(be, header.config, 999);
+  load_network_weights(*copy, file, path);
+  ag::Variable images(random_tensor(be, Shape{1, 3, 16, 16}, 7, 0.0f, 1.0f));
+  EXPECT_EQ(net->forward(images, false).light.value().to_host(),
+            copy->forward(images, false).light.value().to_host());
+
+  // A network of another width cannot take these weights.
+  auto wider = make_network(be, NetworkConfig{16, 16}, 1);
+  try {
+    load_network_weights(*wider, file, path);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shape"), std::string::npos) << e.what();
+  }
+  // A file missing one tensor names it.
+  SafeTensorsWriter partial;
+  for (const std::string& name : file.names())
+    if (name != "light.fc.bias") partial.add(name, file.entry(name).shape, file.floats(name));
+  for (const auto& [k, v] : file.metadata()) partial.set_metadata(k, v);
+  partial.write_file(path);
+  try {
+    load_network_weights(*copy, SafeTensors::read_file(path), path);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("light.fc.bias"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Finite differences on a small network in training mode, for a sample of parameters.
+TEST(PaperNetwork, TrainingGradientsMatchFiniteDifferences) {
+  Backend& be = get_backend("cpu");
+  auto net = make_network(be, NetworkConfig{4, 8}, 8);
+  Tensor images = random_tensor(be, Shape{2, 3, 8, 8}, 9, 0.0f, 1.0f);
+  Tensor wa = random_tensor(be, Shape{2, 3, 8, 8}, 10);
+  Tensor wv = random_tensor(be, Shape{2, 9, 8, 8}, 11);
+  Tensor wl = random_tensor(be, Shape{2, 27}, 12);
+  Tensor wn = random_tensor(be, Shape{2, 3, 8, 8}, 16);
+  // BN running statistics change on every training forward; keep copies to restore them.
+  std::vector<std::vector<float>> saved;
+  for (const auto& [name, t] : net->buffers()) saved.push_back(t.to_host());
+  auto objective = [&]() {
+    size_t i = 0;
+    for (const auto& [name, t] : net->buffers()) t.copy_from_host(saved[i++]);
+    NetworkOutputs out = net->forward(ag::Variable(images), true);
+    ag::Variable total = ag::add(ag::mean(ag::mul(out.albedo, ag::Variable(wa))),
+                                 ag::mean(ag::mul(out.visibility, ag::Variable(wv))));
+    total = ag::add(total, ag::mean(ag::mul(out.light, ag::Variable(wl))));
+    return ag::add(total, ag::mean(ag::mul(out.normal, ag::Variable(wn))));
+  };
+  objective().backward();
+  std::mt19937 rng(13);
+  int checked = 0, skipped = 0;
+  for (const auto& [name, v] : net->parameters()) {
+    std::vector<float> analytic = v.grad().to_host();
+    std::vector<float> values = v.value().to_host();
+    auto difference = [&, &v = v](size_t i, float step) {
+      const float original = values[i];
+      values[i] = original + step;
+      v.value().copy_from_host(values);
+      const double up = objective().value().to_host()[0];
+      values[i] = original - step;
+      v.value().copy_from_host(values);
+      const double down = objective().value().to_host()[0];
+      values[i] = original;
+      v.value().copy_from_host(values);
+      return (up - down) / (2 * step);
+    };
+    for (int k = 0; k < 2; ++k) {
+      const size_t i = rng() % values.size();
+      const double coarse = difference(i, 2e-3f), fine = difference(i, 1e-3f);
+      // Steps that disagree straddle a leaky-ReLU kink: not differentiable there, skip.
+      if (std::abs(coarse - fine) > 1e-4 + 2e-2 * std::abs(fine)) {
+        ++skipped;
+        continue;
+      }
+      // atol: float32 rounding of the loss (~1e-6) divided by the step.
+      EXPECT_NEAR(analytic[i], fine, 6e-4 + 3e-2 * std::abs(fine)) << name << "[" << i << "]";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(skipped * 5, checked) << skipped << " samples straddled a kink";
+}
+
+// The whole network on every other backend against cpu, forward and backward, random weights.
+TEST(PaperNetwork, BackendsAgreeWithCpu) {
+  auto others = testing::non_reference_backends();
+  if (others.empty()) GTEST_SKIP() << "no backend besides cpu can run here";
+  Backend& cpu = get_backend("cpu");
+  for (const std::string& name : others) {
+    Backend& be = get_backend(name);
+    auto ref = make_network(cpu, NetworkConfig{16, 32}, 14);
+    auto net = make_network(be, NetworkConfig{16, 32}, 14);
+    Tensor images = random_tensor(cpu, Shape{2, 3, 32, 32}, 15, 0.0f, 1.0f);
+    auto run = [&](NetworkPlugin& n, Backend& b) {
+      NetworkOutputs out = n.forward(ag::Variable(images.to(b)), true);
+      ag::Variable loss = ag::add(ag::add(ag::mean(out.albedo), ag::mean(out.normal)),
+                                  ag::add(ag::mean(out.visibility), ag::mean(out.light)));
+      loss.backward();
+      return out;
+    };
+    NetworkOutputs a = run(*ref, cpu), b = run(*net, be);
+    EXPECT_TRUE(all_close(b.albedo.value().to_host(), a.albedo.value().to_host(), 1e-3, 1e-3)) << name;
+    EXPECT_TRUE(all_close(b.normal.value().to_host(), a.normal.value().to_host(), 1e-3, 1e-3)) << name;
+    EXPECT_TRUE(all_close(b.visibility.value().to_host(), a.visibility.value().to_host(), 1e-3, 1e-3)) << name;
+    EXPECT_TRUE(all_close(b.light.value().to_host(), a.light.value().to_host(), 1e-3, 1e-3)) << name;
+    auto pa = ref->parameters(), pb = net->parameters();
+    for (size_t i = 0; i < pa.size(); ++i)
+      EXPECT_TRUE(all_close(pb[i].second.grad().to_host(), pa[i].second.grad().to_host(), 1e-3, 1e-2))
+          << name << " gradient of " << pa[i].first;
+  }
+}
+
+}  // namespace
+}  // namespace facetool

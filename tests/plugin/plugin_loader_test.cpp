@@ -1,0 +1,224 @@
+// Tests of PluginLoader against the good and deliberately broken plugins in test_plugins/.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "core/plugin/plugin_loader.h"
+#include "core/util/error.h"
+#include "core/util/shared_library.h"
+#include "test_plugin_interface.h"
+
+namespace facetool {
+namespace {
+
+const std::string kPluginDir = FACETOOL_TEST_PLUGIN_DIR;
+
+std::string plugin_file(const std::string& name) {
+  return kPluginDir + "/" + name + FACETOOL_PLUGIN_FILE_SUFFIX;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The message of the facetool::Error that `action` throws; fails the test if it throws none.
+template <typename Action>
+std::string error_message(Action action) {
+  try {
+    action();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a facetool::Error";
+  return "";
+}
+
+// A loader that searches only `dirs`, so the tests do not depend on the machine's plugins.
+PluginLoader loader_over(std::vector<std::string> dirs) {
+  PluginLoader loader;
+  loader.set_search_dirs(std::move(dirs));
+  return loader;
+}
+
+TEST(PluginLoader, KindNames) {
+  EXPECT_STREQ(plugin_kind_name(FACETOOL_PLUGIN_NETWORK), "network");
+  EXPECT_STREQ(plugin_kind_name(FACETOOL_PLUGIN_LOSS), "loss");
+  EXPECT_STREQ(plugin_kind_name(FACETOOL_PLUGIN_RENDERER), "renderer");
+  EXPECT_STREQ(plugin_kind_name(0), "unknown");
+  EXPECT_STREQ(plugin_kind_name(99), "unknown");
+}
+
+TEST(PluginLoader, GoodPluginLoadsAndCreatesItsObject) {
+  PluginLoader loader = loader_over({});
+  const PluginInfo& info = loader.load_file(plugin_file("good_loss"));
+  EXPECT_EQ(info.name, "test_loss");
+  EXPECT_EQ(info.version, "1.2.3");
+  EXPECT_EQ(info.kind, static_cast<uint32_t>(FACETOOL_PLUGIN_LOSS));
+  EXPECT_EQ(info.description, "a loss plugin used by the plugin loader tests");
+  EXPECT_EQ(info.path, plugin_file("good_loss"));
+  ASSERT_NE(info.descriptor, nullptr);
+  ASSERT_EQ(loader.plugins().size(), 1u);
+
+  int destroyed = 0;
+  {
+    std::shared_ptr<Plugin> object = loader.create(loader.find(FACETOOL_PLUGIN_LOSS, "test_loss"));
+    ASSERT_NE(object, nullptr);
+    // The object's type crosses the library boundary: dynamic_cast must work on it.
+    auto* typed = dynamic_cast<TestPluginInterface*>(object.get());
+    ASSERT_NE(typed, nullptr);
+    EXPECT_EQ(typed->answer(), 42);
+    typed->set_destroyed_flag(&destroyed);
+    EXPECT_EQ(destroyed, 0);
+  }
+  EXPECT_EQ(destroyed, 1) << "the plugin's destroy function did not run";
+}
+
+TEST(PluginLoader, LoadingTheSameFileTwiceKeepsOnePlugin) {
+  PluginLoader loader = loader_over({});
+  loader.load_file(plugin_file("good_loss"));
+  loader.load_file(kPluginDir + "/./good_loss" FACETOOL_PLUGIN_FILE_SUFFIX);
+  EXPECT_EQ(loader.plugins().size(), 1u);
+}
+
+TEST(PluginLoader, WrongApiVersionIsRefusedWithBothVersions) {
+  PluginLoader loader = loader_over({});
+  const std::string file = plugin_file("wrong_version");
+  const std::string message = error_message([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "version " + std::to_string(FACETOOL_PLUGIN_API_VERSION + 1)))
+      << message;
+  EXPECT_TRUE(contains(message, "version " + std::to_string(FACETOOL_PLUGIN_API_VERSION)))
+      << message;
+  EXPECT_TRUE(contains(message, "rebuild")) << message;
+  EXPECT_TRUE(loader.plugins().empty());
+}
+
+TEST(PluginLoader, MissingFileIsAClearError) {
+  PluginLoader loader = loader_over({});
+  const std::string file = kPluginDir + "/does_not_exist" FACETOOL_PLUGIN_FILE_SUFFIX;
+  const std::string message = error_message([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "does not exist")) << message;
+}
+
+TEST(PluginLoader, MissingEntryPointIsRefused) {
+  PluginLoader loader = loader_over({});
+  const std::string file = plugin_file("no_entry");
+  const std::string message = error_message([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, FACETOOL_PLUGIN_ENTRY_SYMBOL)) << message;
+  EXPECT_TRUE(contains(message, "FACETOOL_DEFINE_PLUGIN")) << message;
+}
+
+TEST(PluginLoader, UnknownKindIsRefused) {
+  PluginLoader loader = loader_over({});
+  const std::string file = plugin_file("unknown_kind");
+  const std::string message = error_message([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "unknown kind 99")) << message;
+}
+
+TEST(PluginLoader, DuplicateNameIsRefusedNamingBothFiles) {
+  PluginLoader loader = loader_over({});
+  const std::string first = plugin_file("good_loss");
+  const std::string second = plugin_file("second_good_loss");
+  loader.load_file(first);
+  const std::string message = error_message([&] { loader.load_file(second); });
+  EXPECT_TRUE(contains(message, "plugin name 'test_loss' from " + second +
+                                    " is already provided by " + first))
+      << message;
+  ASSERT_EQ(loader.plugins().size(), 1u);
+  EXPECT_EQ(loader.plugins()[0].version, "1.2.3");
+}
+
+TEST(PluginLoader, CreateReturningNullThrows) {
+  PluginLoader loader = loader_over({});
+  const PluginInfo& info = loader.load_file(plugin_file("null_create"));
+  EXPECT_EQ(info.kind, static_cast<uint32_t>(FACETOOL_PLUGIN_RENDERER));
+  const std::string message = error_message([&] { loader.create(info); });
+  EXPECT_TRUE(contains(message, "null_create")) << message;
+  EXPECT_TRUE(contains(message, "failed to create")) << message;
+}
+
+TEST(PluginLoader, NotALibraryIsRefusedWithTheLoaderMessage) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("facetool_plugin_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / ("text" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
+  std::ofstream(file) << "this is not a shared library\n";
+
+  PluginLoader loader = loader_over({dir.string()});
+  const std::string message = error_message([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "not a loadable library")) << message;
+  loader.discover();
+  EXPECT_TRUE(loader.plugins().empty());
+  ASSERT_EQ(loader.problems().size(), 1u);
+  EXPECT_TRUE(contains(loader.problems()[0], file));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PluginLoader, DiscoverLoadsTheGoodOnesAndReportsTheProblems) {
+  // The folder is listed twice: files seen again are neither reloaded nor reported again.
+  PluginLoader loader = loader_over({kPluginDir, kPluginDir});
+  loader.discover();
+
+  std::vector<std::string> names;
+  for (const PluginInfo& info : loader.plugins()) names.push_back(info.name);
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"null_create", "test_loss"}));
+
+  const std::vector<std::string>& problems = loader.problems();
+  ASSERT_EQ(problems.size(), 4u);
+  for (const char* broken : {"no_entry", "second_good_loss", "unknown_kind", "wrong_version"}) {
+    const std::string file = plugin_file(broken);
+    const bool reported = std::any_of(problems.begin(), problems.end(), [&](const std::string& p) {
+      return contains(p, file);
+    });
+    EXPECT_TRUE(reported) << broken << " was not reported";
+  }
+
+  // Discovering again changes nothing.
+  loader.discover();
+  EXPECT_EQ(loader.plugins().size(), 2u);
+  EXPECT_EQ(loader.problems().size(), 4u);
+}
+
+TEST(PluginLoader, FindListsTheAvailablePlugins) {
+  PluginLoader loader = loader_over({});
+  loader.load_file(plugin_file("good_loss"));
+  EXPECT_EQ(loader.find(FACETOOL_PLUGIN_LOSS, "test_loss").name, "test_loss");
+  const std::string message =
+      error_message([&] { loader.find(FACETOOL_PLUGIN_LOSS, "no_such_loss"); });
+  EXPECT_TRUE(contains(message, "no_such_loss")) << message;
+  EXPECT_TRUE(contains(message, "test_loss")) << message;
+  // The right name but the wrong kind is not a match.
+  EXPECT_THROW(loader.find(FACETOOL_PLUGIN_NETWORK, "test_loss"), Error);
+}
+
+TEST(PluginLoader, DefaultSearchDirsHonourTheEnvironment) {
+  const char* old_value = std::getenv("FACETOOL_PLUGIN_PATH");
+  const std::string saved = old_value ? old_value : "";
+  setenv("FACETOOL_PLUGIN_PATH", "/first/dir::/second/dir", 1);
+  const std::vector<std::string> dirs = PluginLoader::default_search_dirs();
+  if (old_value)
+    setenv("FACETOOL_PLUGIN_PATH", saved.c_str(), 1);
+  else
+    unsetenv("FACETOOL_PLUGIN_PATH");
+
+  ASSERT_GE(dirs.size(), 4u);
+  EXPECT_EQ(dirs[0], "/first/dir");
+  EXPECT_EQ(dirs[1], "/second/dir");
+  EXPECT_EQ(dirs[2], executable_dir());
+  EXPECT_EQ(dirs[3], executable_dir() + "/../lib/facetool/plugins");
+  EXPECT_EQ(PluginLoader().search_dirs(), PluginLoader::default_search_dirs());
+}
+
+}  // namespace
+}  // namespace facetool
