@@ -54,14 +54,14 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void bn_statistics(
   }
 }
 
-// y = (x - mean) * invstd * gamma + beta
+// y = (x - mean) * invstd * gamma + beta; 2-D range (plane, batch*C).
 __kernel void bn_apply(__global const float* x, __global const float* mean,
                        __global const float* invstd, __global const float* gamma,
-                       __global const float* beta, __global float* y, int C, int plane, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int c = (i / plane) % C;
-  y[i] = (x[i] - mean[c]) * invstd[c] * gamma[c] + beta[c];
+                       __global const float* beta, __global float* y, int C, int plane) {
+  const int c = get_global_id(1) % C;
+  const int i = get_global_id(1) * plane + get_global_id(0);
+  const float scale = invstd[c] * gamma[c];
+  y[i] = (x[i] - mean[c]) * scale + beta[c];
 }
 
 // sums[c] = sum dy, sums[C + c] = sum dy * xhat; dgamma/dbeta (+)= those when wanted.
@@ -95,14 +95,14 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void bn_backward_reduce
 }
 
 // Training: dx = gamma*invstd*(dy - sum_dy/M - xhat*sum_dyxhat/M); eval: dx = dy*gamma*invstd.
+// 2-D range (plane, batch*C).
 __kernel void bn_backward_dx(__global const float* x, __global const float* dy,
                              __global const float* mean, __global const float* invstd,
                              __global const float* gamma, __global const float* sums,
                              __global float* dx, int training, int accumulate, int C, int plane,
-                             int count, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int c = (i / plane) % C;
+                             int count) {
+  const int c = get_global_id(1) % C;
+  const int i = get_global_id(1) * plane + get_global_id(0);
   const float s = invstd[c];
   float g;
   if (training) {

@@ -5,18 +5,14 @@
 #define WG 256
 
 // col[r, j] = x[n0 + g, ci, oy*stride - pad + ky, ox*stride - pad + kx] (0 outside the image).
+// 3-D range (Wo, G*Ho, Ci*K*K): the index arithmetic of dimensions 1 and 2 is shared by a row.
 __kernel void im2col(__global const float* x, __global float* col, int n0, int G, int Ci, int H,
                      int W, int K, int stride, int pad, int Ho, int Wo) {
-  const int i = get_global_id(0);
-  const int plane_out = Ho * Wo;
-  const int cols = G * plane_out;
-  if (i >= Ci * K * K * cols) return;
-  const int j = i % cols;
-  const int r = i / cols;
-  const int g = j / plane_out;
-  const int pix = j - g * plane_out;
-  const int oy = pix / Wo;
-  const int ox = pix - oy * Wo;
+  const int ox = get_global_id(0);
+  const int gy = get_global_id(1);
+  const int r = get_global_id(2);
+  const int g = gy / Ho;
+  const int oy = gy - g * Ho;
   const int kx = r % K;
   const int ky = (r / K) % K;
   const int ci = r / (K * K);
@@ -24,68 +20,74 @@ __kernel void im2col(__global const float* x, __global float* col, int n0, int G
   const int ix = ox * stride - pad + kx;
   float v = 0.0f;
   if (iy >= 0 && iy < H && ix >= 0 && ix < W) v = x[(((n0 + g) * Ci + ci) * H + iy) * W + ix];
-  col[i] = v;
+  col[(r * G + g) * Ho * Wo + oy * Wo + ox] = v;
 }
 
 // dx[n0 + g, ci, iy, ix] (+)= sum of the col entries that im2col copied from that pixel.
+// 3-D range (W, G*H, Ci).
 __kernel void col2im(__global const float* col, __global float* dx, int n0, int G, int Ci, int H,
                      int W, int K, int stride, int pad, int Ho, int Wo, int accumulate) {
-  const int i = get_global_id(0);
-  if (i >= G * Ci * H * W) return;
-  const int ix = i % W;
-  const int iy = (i / W) % H;
-  const int ci = (i / (W * H)) % Ci;
-  const int g = i / (W * H * Ci);
+  const int ix = get_global_id(0);
+  const int gy = get_global_id(1);
+  const int ci = get_global_id(2);
+  const int g = gy / H;
+  const int iy = gy - g * H;
   const int plane_out = Ho * Wo;
   const int cols = G * plane_out;
   float sum = 0.0f;
   for (int ky = 0; ky < K; ++ky) {
     const int ty = iy + pad - ky;
-    if (ty < 0 || ty % stride != 0) continue;
-    const int oy = ty / stride;
+    if (ty < 0) break;
+    int oy = ty;
+    if (stride != 1) {
+      if (ty % stride != 0) continue;
+      oy = ty / stride;
+    }
     if (oy >= Ho) continue;
+    __global const float* row = col + (ci * K + ky) * K * cols + g * plane_out + oy * Wo;
     for (int kx = 0; kx < K; ++kx) {
       const int tx = ix + pad - kx;
-      if (tx < 0 || tx % stride != 0) continue;
-      const int ox = tx / stride;
-      if (ox >= Wo) continue;
-      sum += col[((ci * K + ky) * K + kx) * cols + g * plane_out + oy * Wo + ox];
+      if (tx < 0) break;
+      int ox = tx;
+      if (stride != 1) {
+        if (tx % stride != 0) continue;
+        ox = tx / stride;
+      }
+      if (ox < Wo) sum += row[kx * cols + ox];
     }
   }
-  const int o = ((n0 + g) * Ci + ci) * H * W + iy * W + ix;
+  const int o = (((n0 + g) * Ci + ci) * H + iy) * W + ix;
   dx[o] = accumulate ? dx[o] + sum : sum;
 }
 
-// y[n0 + g, co, p] = tmp[co, g*plane + p] (+ bias[co]).
+// y[n0 + g, co, p] = tmp[co, g*plane + p] (+ bias[co]); 2-D range (plane, G*Co).
 __kernel void unpack_batch(__global const float* tmp, __global float* y,
                            __global const float* bias, int has_bias, int n0, int G, int Co,
                            int plane) {
-  const int i = get_global_id(0);
-  if (i >= G * Co * plane) return;
-  const int p = i % plane;
-  const int co = (i / plane) % Co;
-  const int g = i / (plane * Co);
+  const int p = get_global_id(0);
+  const int gc = get_global_id(1);
+  const int g = gc / Co;
+  const int co = gc - g * Co;
   float v = tmp[(co * G + g) * plane + p];
   if (has_bias) v += bias[co];
-  y[n0 * Co * plane + i] = v;
+  y[(n0 * Co + gc) * plane + p] = v;
 }
 
-// tmp[co, g*plane + p] = dy[n0 + g, co, p]
+// tmp[co, g*plane + p] = dy[n0 + g, co, p]; 2-D range (plane, G*Co).
 __kernel void pack_batch(__global const float* dy, __global float* tmp, int n0, int G, int Co,
                          int plane) {
-  const int i = get_global_id(0);
-  if (i >= G * Co * plane) return;
-  const int p = i % plane;
-  const int co = (i / plane) % Co;
-  const int g = i / (plane * Co);
-  tmp[(co * G + g) * plane + p] = dy[n0 * Co * plane + i];
+  const int p = get_global_id(0);
+  const int gc = get_global_id(1);
+  const int g = gc / Co;
+  const int co = gc - g * Co;
+  tmp[(co * G + g) * plane + p] = dy[(n0 * Co + gc) * plane + p];
 }
 
-// y[b, c, p] += bias[c] over n = batch*C*plane items.
-__kernel void add_channel_bias(__global float* y, __global const float* bias, int C, int plane,
-                               int n) {
-  const int i = get_global_id(0);
-  if (i < n) y[i] += bias[(i / plane) % C];
+// y[b, c, p] += bias[c]; 2-D range (plane, batch*C).
+__kernel void add_channel_bias(__global float* y, __global const float* bias, int C, int plane) {
+  const int p = get_global_id(0);
+  const int bc = get_global_id(1);
+  y[bc * plane + p] += bias[bc % C];
 }
 
 // out[c] (+)= sum over b, p of x[b, c, p]; one work-group of WG items per channel.

@@ -11,15 +11,13 @@ __kernel void copy(__global const float* x, __global float* y, int n) {
   if (i < n) y[i] = x[i];
 }
 
-// y[b, dst_c0 + c, p] (+)= x[b, src_c0 + c, p] for c < count, p < plane; n = batch*count*plane.
+// y[b, dst_c0 + c, p] (+)= x[b, src_c0 + c, p] for c < count; 2-D range (plane, batch*count).
 __kernel void copy_channels(__global const float* x, int x_channels, int src_c0,
                             __global float* y, int y_channels, int dst_c0, int count, int plane,
-                            int accumulate, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int p = i % plane;
-  const int c = (i / plane) % count;
-  const int b = i / (plane * count);
+                            int accumulate) {
+  const int p = get_global_id(0);
+  const int b = get_global_id(1) / count;
+  const int c = get_global_id(1) - b * count;
   const float v = x[(b * x_channels + src_c0 + c) * plane + p];
   const int o = (b * y_channels + dst_c0 + c) * plane + p;
   y[o] = accumulate ? y[o] + v : v;

@@ -1,11 +1,9 @@
 // Per-pixel L2 normalisation over channels: y = x / max(||x||, eps), and its gradient.
 
-// One work-item per pixel of x [batch, C, plane]; n = batch * plane.
+// One work-item per pixel of x [batch, C, plane]: 2-D range (plane, batch).
 __kernel void l2_normalize(__global const float* x, __global float* y, float eps, int C,
-                           int plane, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int base = (i / plane) * C * plane + i % plane;
+                           int plane) {
+  const int base = get_global_id(1) * C * plane + get_global_id(0);
   float sq = 0.0f;
   for (int c = 0; c < C; ++c) {
     const float v = x[base + c * plane];
@@ -20,10 +18,8 @@ __kernel void l2_normalize(__global const float* x, __global float* y, float eps
 // eps: dx = dy / eps.
 __kernel void l2_normalize_backward(__global const float* x, __global const float* dy,
                                     __global float* dx, float eps, int accumulate, int C,
-                                    int plane, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int base = (i / plane) * C * plane + i % plane;
+                                    int plane) {
+  const int base = get_global_id(1) * C * plane + get_global_id(0);
   float sq = 0.0f;
   float xdy = 0.0f;
   for (int c = 0; c < C; ++c) {

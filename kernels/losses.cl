@@ -56,17 +56,18 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void masked_mse_final(
 }
 
 // g = dloss * 2 mask (pred - target) / (C sum(mask)); dpred (+)= g, dtarget (+)= -g.
+// 2-D range (plane, batch*C).
 __kernel void masked_mse_backward(__global const float* pred, __global const float* target,
                                   __global const float* mask, __global const float* dloss,
                                   __global const float* mask_sum, __global float* dpred,
                                   int want_dpred, __global float* dtarget, int want_dtarget,
-                                  int accumulate, int C, int plane, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
+                                  int accumulate, int C, int plane) {
+  const int p = get_global_id(0);
+  const int i = get_global_id(1) * plane + p;
   const float msum = mask_sum[0];
   float g = 0.0f;
   if (msum != 0.0f) {
-    const float m = mask[(i / (C * plane)) * plane + i % plane];
+    const float m = mask[(get_global_id(1) / C) * plane + p];
     g = dloss[0] * 2.0f * m * (pred[i] - target[i]) / ((float)C * msum);
   }
   if (want_dpred) dpred[i] = accumulate ? dpred[i] + g : g;

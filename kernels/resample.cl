@@ -21,15 +21,14 @@ inline float tap_weight(int o, int i, int in_size) {
   return (i0 == i ? w0 : 0.0f) + (i1 == i ? 1.0f - w0 : 0.0f);
 }
 
-// x [planes, H, W] -> y [planes, 2H, 2W]; n = planes * 4 * H * W.
-__kernel void upsample_bilinear2x(__global const float* x, __global float* y, int H, int W, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
+// x [planes, H, W] -> y [planes, 2H, 2W]; 3-D range (2W, 2H, planes).
+__kernel void upsample_bilinear2x(__global const float* x, __global float* y, int H, int W) {
   const int Wo = 2 * W;
   const int Ho = 2 * H;
-  const int ox = i % Wo;
-  const int oy = (i / Wo) % Ho;
-  const int plane = i / (Wo * Ho);
+  const int ox = get_global_id(0);
+  const int oy = get_global_id(1);
+  const int plane = get_global_id(2);
+  const int i = (plane * Ho + oy) * Wo + ox;
   int y0, y1, x0, x1;
   float wy, wx;
   source_taps(oy, H, &y0, &y1, &wy);
@@ -40,13 +39,13 @@ __kernel void upsample_bilinear2x(__global const float* x, __global float* y, in
 }
 
 // dx[plane, iy, ix] (+)= sum over the outputs that read it; gathers, so no atomics are needed.
+// 3-D range (W, H, planes).
 __kernel void upsample_bilinear2x_backward(__global const float* dy, __global float* dx, int H,
-                                           int W, int accumulate, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const int ix = i % W;
-  const int iy = (i / W) % H;
-  const int plane = i / (W * H);
+                                           int W, int accumulate) {
+  const int ix = get_global_id(0);
+  const int iy = get_global_id(1);
+  const int plane = get_global_id(2);
+  const int i = (plane * H + iy) * W + ix;
   const int Wo = 2 * W;
   const int Ho = 2 * H;
   __global const float* g = dy + plane * Ho * Wo;
@@ -81,11 +80,10 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void global_avg_pool(
   if (l == 0) y[p] = scratch[0] / (float)plane;
 }
 
-// dx[p, k] (+)= dy[p] / plane
+// dx[p, k] (+)= dy[p] / plane; 2-D range (plane, planes).
 __kernel void global_avg_pool_backward(__global const float* dy, __global float* dx, int plane,
-                                       int accumulate, int n) {
-  const int i = get_global_id(0);
-  if (i >= n) return;
-  const float g = dy[i / plane] / (float)plane;
+                                       int accumulate) {
+  const int i = get_global_id(1) * plane + get_global_id(0);
+  const float g = dy[get_global_id(1)] / (float)plane;
   dx[i] = accumulate ? dx[i] + g : g;
 }

@@ -98,8 +98,9 @@ int run(const std::vector<std::string>& args, std::string& command_name) {
 
   // Common options may also follow the command name; everything else goes to the command.
   const std::vector<std::string> rest(args.begin() + command_index + 1, args.end());
+  const po::options_description common = common_options();  // the parser keeps a reference
   const po::parsed_options parsed = po::command_line_parser(rest)
-                                        .options(common_options())
+                                        .options(common)
                                         .style(option_style())
                                         .allow_unregistered()
                                         .run();

@@ -13,25 +13,33 @@ namespace {
 
 enum class GemmLibrary { OpenBlas, Dnnl };
 
-GemmLibrary choose_library() {
+struct GemmChoice {
+  GemmLibrary library;
+  std::string reason;
+};
+
+GemmChoice choose_library() {
   openblas_prepare();
   if (const char* env = std::getenv("FACETOOL_GEMM")) {
     const std::string wanted = env;
-    if (wanted == "openblas") return GemmLibrary::OpenBlas;
-    if (wanted == "dnnl") return GemmLibrary::Dnnl;
+    if (wanted == "openblas") return {GemmLibrary::OpenBlas, "set by FACETOOL_GEMM"};
+    if (wanted == "dnnl") return {GemmLibrary::Dnnl, "set by FACETOOL_GEMM"};
     if (!wanted.empty())
       fail("FACETOOL_GEMM='", wanted, "' is not a known GEMM library; use openblas or dnnl");
   }
   __builtin_cpu_init();
   const bool cpu_has_avx512 = __builtin_cpu_supports("avx512f");
-  if (cpu_has_avx512 && !openblas_core_uses_avx512()) return GemmLibrary::Dnnl;
-  return GemmLibrary::OpenBlas;
+  if (cpu_has_avx512 && !openblas_core_uses_avx512())
+    return {GemmLibrary::Dnnl, "OpenBLAS core " + openblas_core_name() + " lacks AVX-512"};
+  return {GemmLibrary::OpenBlas, openblas_core_name() + " kernels"};
 }
 
-GemmLibrary library() {
-  static const GemmLibrary chosen = choose_library();
+const GemmChoice& choice() {
+  static const GemmChoice chosen = choose_library();
   return chosen;
 }
+
+GemmLibrary library() { return choice().library; }
 
 }  // namespace
 
@@ -46,9 +54,8 @@ void sgemm(bool trans_a, bool trans_b, int64_t m, int64_t n, int64_t k, float al
 }
 
 std::string sgemm_description() {
-  if (library() == GemmLibrary::Dnnl)
-    return "oneDNN sgemm (OpenBLAS core " + openblas_core_name() + " lacks AVX-512)";
-  return "OpenBLAS sgemm (" + openblas_core_name() + " kernels)";
+  const char* name = library() == GemmLibrary::Dnnl ? "oneDNN sgemm" : "OpenBLAS sgemm";
+  return std::string(name) + " (" + choice().reason + ")";
 }
 
 }  // namespace facetool::cpu

@@ -123,6 +123,16 @@ void enqueue_1d(OpenclBackend& be, cl_kernel kernel, int64_t items, size_t local
            "clEnqueueNDRangeKernel");
 }
 
+void enqueue_nd(OpenclBackend& be, cl_kernel kernel, int64_t size0, int64_t size1,
+                int64_t size2) {
+  if (size0 <= 0 || size1 <= 0 || size2 < 0) return;
+  const size_t global[3] = {static_cast<size_t>(size0), static_cast<size_t>(size1),
+                            static_cast<size_t>(size2 > 0 ? size2 : 1)};
+  check_cl(clEnqueueNDRangeKernel(be.context().queue(), kernel, size2 > 0 ? 3 : 2, nullptr, global,
+                                  nullptr, 0, nullptr, nullptr),
+           "clEnqueueNDRangeKernel");
+}
+
 void enqueue_groups(OpenclBackend& be, cl_kernel kernel, int64_t groups, size_t local) {
   if (groups <= 0) return;
   const size_t global = static_cast<size_t>(groups) * local;

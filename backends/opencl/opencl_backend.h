@@ -136,6 +136,10 @@ class KernelArgs {
 // Enqueues `kernel` over `items` work-items in 1-D groups of `local` (the global size is rounded
 // up; kernels ignore the extra items). local == 0 lets the runtime choose and uses items as is.
 void enqueue_1d(OpenclBackend& be, cl_kernel kernel, int64_t items, size_t local = 256);
+// Enqueues `kernel` over an exact 2-D or 3-D range (size2 == 0: 2-D), local size chosen by the
+// runtime; used where the kernel derives channel/row indices from the outer dimensions.
+void enqueue_nd(OpenclBackend& be, cl_kernel kernel, int64_t size0, int64_t size1,
+                int64_t size2);
 // Enqueues exactly `groups` work-groups of `local` items.
 void enqueue_groups(OpenclBackend& be, cl_kernel kernel, int64_t groups, size_t local = 256);
 
@@ -155,6 +159,20 @@ void run_kernel(OpenclBackend& be, const char* file, const char* entry, int64_t 
   KernelArgs setter(k);
   (set_one(setter, args), ...);
   enqueue_1d(be, k, items);
+}
+
+// Over a 2-D (size2 == 0) or 3-D range: run_nd(be, file, entry, {w, h, planes}, args...).
+struct Range {
+  int64_t size0, size1, size2 = 0;
+};
+template <typename... Args>
+void run_nd(OpenclBackend& be, const char* file, const char* entry, Range range,
+            const Args&... args) {
+  cl_kernel k = be.builtin_kernel(file, entry);
+  std::lock_guard<std::mutex> lock(be.launch_mutex());
+  KernelArgs setter(k);
+  (set_one(setter, args), ...);
+  enqueue_nd(be, k, range.size0, range.size1, range.size2);
 }
 
 template <typename... Args>

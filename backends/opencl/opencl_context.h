@@ -21,7 +21,8 @@ struct DeviceEntry {
   cl_device_type type = 0;
   cl_uint compute_units = 0;
   cl_ulong global_memory = 0;
-  std::string describe() const;  // "pthread-... (Portable Computing Language), 2 compute units, 3.8 GiB"
+  // "pthread-... (Portable Computing Language), 2 compute units, 3.8 GiB"
+  std::string describe() const;
 };
 
 // Every device of every platform, in platform order. Throws facetool::Error with advice when no

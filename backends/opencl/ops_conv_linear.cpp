@@ -41,7 +41,7 @@ struct ConvGeometry {
 
 void im2col(OpenclBackend& be, const Tensor& x, const Tensor& col, const ConvGeometry& g,
             int64_t n0, int64_t count) {
-  run_kernel(be, kConv, "im2col", g.rows() * count * g.plane_out(), x, col, n0, count, g.ci, g.h,
+  run_nd(be, kConv, "im2col", {g.wo, count * g.ho, g.rows()}, x, col, n0, count, g.ci, g.h,
              g.w, g.k, g.stride, g.pad, g.ho, g.wo);
 }
 
@@ -72,13 +72,13 @@ void OpenclBackend::conv2d(const Tensor& x, const Tensor& w, const Tensor* bias,
     } else {
       gemm_->run(false, false, g.co, cols, g.rows(), 1.0f, device_memory(w), 0, g.rows(), b,
                  b_offset, cols, 0.0f, device_memory(packed), 0, cols);
-      run_kernel(*this, kConv, "unpack_batch", count * g.co * plane, packed, y,
+      run_nd(*this, kConv, "unpack_batch", {plane, count * g.co}, packed, y,
                  bias ? device_memory(*bias) : device_memory(packed), bias != nullptr, n0, count,
                  g.co, plane);
     }
   }
   if (direct_output && bias)
-    run_kernel(*this, kConv, "add_channel_bias", y.numel(), y, *bias, g.co, plane, y.numel());
+    run_nd(*this, kConv, "add_channel_bias", {plane, g.batch * g.co}, y, *bias, g.co, plane);
 }
 
 void OpenclBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor& dy,
@@ -103,7 +103,8 @@ void OpenclBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tens
     cl_mem dy_mem = device_memory(dy);
     size_t dy_offset = static_cast<size_t>(n0 * g.co * plane);
     if (!direct) {
-      run_kernel(*this, kConv, "pack_batch", cols * g.co, dy, packed_dy, n0, count, g.co, plane);
+      run_nd(*this, kConv, "pack_batch", {plane, count * g.co}, dy, packed_dy, n0, count, g.co,
+             plane);
       dy_mem = device_memory(packed_dy);
       dy_offset = 0;
     }
@@ -131,8 +132,8 @@ void OpenclBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tens
       } else {
         gemm_->run(true, false, g.rows(), cols, g.co, 1.0f, device_memory(w), 0, g.rows(), dy_mem,
                    dy_offset, cols, 0.0f, device_memory(dcol), 0, cols);
-        run_kernel(*this, kConv, "col2im", count * g.ci * g.h * g.w, dcol, *dx, n0, count, g.ci,
-                   g.h, g.w, g.k, g.stride, g.pad, g.ho, g.wo, accumulate);
+        run_nd(*this, kConv, "col2im", {g.w, count * g.h, g.ci}, dcol, *dx, n0, count, g.ci, g.h,
+               g.w, g.k, g.stride, g.pad, g.ho, g.wo, accumulate);
       }
     }
   }
@@ -144,7 +145,7 @@ void OpenclBackend::linear(const Tensor& x, const Tensor& w, const Tensor* bias,
   // y[N, out] = x[N, in] * w[out, in]^T
   gemm_->run(false, true, n, out, in, 1.0f, device_memory(x), 0, in, device_memory(w), 0, in,
              0.0f, device_memory(y), 0, out);
-  if (bias) run_kernel(*this, kConv, "add_channel_bias", y.numel(), y, *bias, out, 1, y.numel());
+  if (bias) run_nd(*this, kConv, "add_channel_bias", {1, n * out}, y, *bias, out, 1);
 }
 
 void OpenclBackend::linear_backward(const Tensor& x, const Tensor& w, const Tensor& dy,

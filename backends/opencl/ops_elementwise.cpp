@@ -20,9 +20,8 @@ void OpenclBackend::copy_channels(const Tensor& x, int64_t src_c0, const Tensor&
                                   int64_t dst_c0, int64_t count, bool accumulate) {
   const Shape& xs = x.shape();
   const int64_t plane = xs.h() * xs.w();
-  const int64_t n = xs.n() * count * plane;
-  run_kernel(*this, kElementwise, "copy_channels", n, x, xs.c(), src_c0, y, y.shape().c(),
-             dst_c0, count, plane, accumulate, n);
+  run_nd(*this, kElementwise, "copy_channels", {plane, xs.n() * count}, x, xs.c(), src_c0, y,
+         y.shape().c(), dst_c0, count, plane, accumulate);
 }
 
 void OpenclBackend::add(const Tensor& a, const Tensor& b, const Tensor& y) {

@@ -14,8 +14,8 @@ void OpenclBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tenso
   const int64_t plane = s.h() * s.w();
   run_groups(*this, kBatchNorm, "bn_statistics", s.c(), x, s.n(), s.c(), plane, running_mean,
              running_var, save_mean, save_invstd, p.momentum, p.eps, p.training);
-  run_kernel(*this, kBatchNorm, "bn_apply", x.numel(), x, save_mean, save_invstd, gamma, beta, y,
-             s.c(), plane, x.numel());
+  run_nd(*this, kBatchNorm, "bn_apply", {plane, s.n() * s.c()}, x, save_mean, save_invstd, gamma,
+         beta, y, s.c(), plane);
 }
 
 void OpenclBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
@@ -31,22 +31,22 @@ void OpenclBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
              s.c(), plane, sums, dgamma ? *dgamma : sums, dgamma != nullptr,
              dbeta ? *dbeta : sums, dbeta != nullptr, accumulate);
   if (dx)
-    run_kernel(*this, kBatchNorm, "bn_backward_dx", x.numel(), x, dy, save_mean, save_invstd,
-               gamma, sums, *dx, p.training, accumulate, s.c(), plane, s.n() * plane, x.numel());
+    run_nd(*this, kBatchNorm, "bn_backward_dx", {plane, s.n() * s.c()}, x, dy, save_mean,
+           save_invstd, gamma, sums, *dx, p.training, accumulate, s.c(), plane, s.n() * plane);
 }
 
 void OpenclBackend::l2_normalize(const Tensor& x, float eps, const Tensor& y) {
   const Shape& s = x.shape();
   const int64_t plane = s.h() * s.w();
-  run_kernel(*this, kL2, "l2_normalize", s.n() * plane, x, y, eps, s.c(), plane, s.n() * plane);
+  run_nd(*this, kL2, "l2_normalize", {plane, s.n()}, x, y, eps, s.c(), plane);
 }
 
 void OpenclBackend::l2_normalize_backward(const Tensor& x, float eps, const Tensor& dy,
                                           const Tensor& dx, bool accumulate) {
   const Shape& s = x.shape();
   const int64_t plane = s.h() * s.w();
-  run_kernel(*this, kL2, "l2_normalize_backward", s.n() * plane, x, dy, dx, eps, accumulate,
-             s.c(), plane, s.n() * plane);
+  run_nd(*this, kL2, "l2_normalize_backward", {plane, s.n()}, x, dy, dx, eps, accumulate, s.c(),
+         plane);
 }
 
 }  // namespace facetool::opencl

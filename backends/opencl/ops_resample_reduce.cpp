@@ -21,14 +21,15 @@ int64_t reduction_groups(int64_t n) {
 
 void OpenclBackend::upsample_bilinear2x(const Tensor& x, const Tensor& y) {
   const Shape& s = x.shape();
-  run_kernel(*this, kResample, "upsample_bilinear2x", y.numel(), x, y, s.h(), s.w(), y.numel());
+  run_nd(*this, kResample, "upsample_bilinear2x", {2 * s.w(), 2 * s.h(), s.n() * s.c()}, x, y,
+         s.h(), s.w());
 }
 
 void OpenclBackend::upsample_bilinear2x_backward(const Tensor& dy, const Tensor& dx,
                                                  bool accumulate) {
   const Shape& s = dx.shape();
-  run_kernel(*this, kResample, "upsample_bilinear2x_backward", dx.numel(), dy, dx, s.h(), s.w(),
-             accumulate, dx.numel());
+  run_nd(*this, kResample, "upsample_bilinear2x_backward", {s.w(), s.h(), s.n() * s.c()}, dy, dx,
+         s.h(), s.w(), accumulate);
 }
 
 void OpenclBackend::global_avg_pool(const Tensor& x, const Tensor& y) {
@@ -39,8 +40,8 @@ void OpenclBackend::global_avg_pool(const Tensor& x, const Tensor& y) {
 void OpenclBackend::global_avg_pool_backward(const Tensor& dy, const Tensor& dx,
                                              bool accumulate) {
   const Shape& s = dx.shape();
-  run_kernel(*this, kResample, "global_avg_pool_backward", dx.numel(), dy, dx, s.h() * s.w(),
-             accumulate, dx.numel());
+  run_nd(*this, kResample, "global_avg_pool_backward", {s.h() * s.w(), s.n() * s.c()}, dy, dx,
+         s.h() * s.w(), accumulate);
 }
 
 void OpenclBackend::sum(const Tensor& x, const Tensor& y) {
@@ -77,10 +78,9 @@ void OpenclBackend::masked_mse_backward(const Tensor& pred, const Tensor& target
   Tensor mask_sum = scratch(1);
   run_groups(*this, kReductions, "sum_partials", groups, mask, partials, mask.numel());
   run_groups(*this, kReductions, "sum_final", 1, partials, groups, mask_sum, 1.0f);
-  run_kernel(*this, kLosses, "masked_mse_backward", pred.numel(), pred, target, mask, dloss,
-             mask_sum, dpred ? *dpred : mask_sum, dpred != nullptr,
-             dtarget ? *dtarget : mask_sum, dtarget != nullptr, accumulate, s.c(),
-             s.h() * s.w(), pred.numel());
+  run_nd(*this, kLosses, "masked_mse_backward", {s.h() * s.w(), s.n() * s.c()}, pred, target,
+         mask, dloss, mask_sum, dpred ? *dpred : mask_sum, dpred != nullptr,
+         dtarget ? *dtarget : mask_sum, dtarget != nullptr, accumulate, s.c(), s.h() * s.w());
 }
 
 }  // namespace facetool::opencl

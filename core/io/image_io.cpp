@@ -51,11 +51,14 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   return image;
 }
 
-void write_png_atomically(const std::string& path, const RgbImage& rgb) {
+void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
   check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
   std::vector<uint8_t> bytes(rgb.pixels.size());
-  for (size_t i = 0; i < bytes.size(); ++i)
-    bytes[i] = static_cast<uint8_t>(std::lround(linear_to_srgb(rgb.pixels[i]) * 255.0f));
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const float v = encode_srgb ? linear_to_srgb(rgb.pixels[i])
+                                : std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
+    bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
+  }
   write_atomically(path, [&](const std::string& temp_path) {
     auto output = OIIO::ImageOutput::create("png");
     check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());

@@ -28,7 +28,8 @@ float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
 
 // Writes `rgb` (linear values, clamped to [0, 1], sRGB-encoded on the way) as an 8-bit PNG,
-// atomically (temporary name, then rename).
-void write_png_atomically(const std::string& path, const RgbImage& rgb);
+// atomically (temporary name, then rename). With encode_srgb = false the values are written as
+// they are (for data pictures such as normals encoded as (n + 1) / 2); NaN becomes 0.
+void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb = true);
 
 }  // namespace facetool

@@ -3,6 +3,7 @@
 #include "core/io/obj_reader.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -34,16 +35,17 @@ class LineParser {
   }
   float number() {
     skip_spaces();
-    // strtof needs a terminated string: copy the token (short) to a local buffer.
-    char buffer[64];
-    size_t n = 0;
-    while (cursor_ < end_ && *cursor_ != ' ' && *cursor_ != '\t' && *cursor_ != '\r' &&
-           n + 1 < sizeof(buffer))
-      buffer[n++] = *cursor_++;
-    buffer[n] = '\0';
-    char* parsed_end = nullptr;
-    const float value = std::strtof(buffer, &parsed_end);
-    if (n == 0 || parsed_end != buffer + n) error("expected a number, found '", buffer, "'");
+    const char* start = cursor_;
+    if (cursor_ < end_ && *cursor_ == '+') ++cursor_;  // from_chars takes no leading '+'
+    float value = 0.0f;
+    const auto [after, status] = std::from_chars(cursor_, end_, value);
+    const bool separated = after == end_ || *after == ' ' || *after == '\t' || *after == '\r';
+    if (status != std::errc() || !separated) {
+      const char* stop = start;
+      while (stop < end_ && *stop != ' ' && *stop != '\t' && *stop != '\r') ++stop;
+      error("expected a number, found '", std::string(start, stop), "'");
+    }
+    cursor_ = after;
     return value;
   }
   template <typename... Parts>

@@ -59,8 +59,8 @@ WeightsHeader read_weights_header(const SafeTensors& file, const std::string& pa
   const int version = parse_positive_int(get("format_version"), "format_version", path);
   check(version == kWeightsFormatVersion, "weights file '", path, "' has format version ", version,
         " but this facetool reads version ", kWeightsFormatVersion);
-  check(get("input") == "rgb01", "weights file '", path, "' expects input convention '",
-        get("input"), "', this facetool feeds 'rgb01'");
+  check(get("input") == "linear_rgb", "weights file '", path, "' expects input convention '",
+        get("input"), "', this facetool feeds 'linear_rgb'");
   WeightsHeader h;
   h.architecture = get("architecture");
   h.config.width = parse_positive_int(get("width"), "width", path);
@@ -91,7 +91,7 @@ void save_network_weights(const NetworkPlugin& net, const std::string& architect
   writer.set_metadata("architecture", architecture);
   writer.set_metadata("width", std::to_string(net.config().width));
   writer.set_metadata("input_size", std::to_string(net.config().input_size));
-  writer.set_metadata("input", "rgb01");
+  writer.set_metadata("input", "linear_rgb");
   for (const auto& [name, variable] : net.parameters())
     writer.add(name, dims_of(variable.shape()), variable.value().to_host());
   for (const auto& [name, tensor] : net.buffers())

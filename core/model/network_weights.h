@@ -10,7 +10,7 @@ namespace facetool {
 
 // Metadata written with the weights (docs/model-format.md):
 //   format = "facetool-network", format_version = "1", architecture = plugin name,
-//   width, input_size, input = "rgb01" (RGB, 8-bit values / 255, no mean subtraction).
+//   width, input_size, input = "linear_rgb" (linear RGB in [0, 1]; 8-bit sRGB files decoded).
 constexpr const char* kWeightsFormat = "facetool-network";
 constexpr int kWeightsFormatVersion = 1;
 

@@ -7,6 +7,9 @@
 namespace facetool {
 namespace {
 
+// Matches the cornea cut in face_model.cpp: the iris fills the opening of the outer shell.
+constexpr float kIrisHalfAngleDeg = 30.0f;
+
 float smoothstep(float edge0, float edge1, float x) {
   const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -157,45 +160,16 @@ AlbedoModel::AlbedoModel(const FaceMesh& reference, const std::vector<int32_t>& 
     cheeks_[1] = (eye_l + at(54)) * 0.5f + Vec3f{0.1f * scale_, 0, 0};
     nose_tip_ = at(30);
   }
-  // Eyes: centroids of each side's sclera + iris, iris centroid, iris radius.
-  std::array<Vec3f, 2> ball_sum{}, iris_sum{};
-  std::array<int, 2> ball_count{}, iris_count{};
-  std::vector<uint8_t> seen(r.size(), 0);
+  // Eyes: the fitted centre of each inner eyeball shell (kIris); the iris is the cap within
+  // the cornea's half-angle of +Z (the neutral gaze), the pupil the middle of it.
+  std::array<std::vector<Vec3f>, 2> shell;
   for (size_t t = 0; t < reference.triangles.size(); ++t) {
-    const FacePart part = reference.triangle_parts[t];
-    if (part != FacePart::kSclera && part != FacePart::kIris) continue;
-    for (int32_t v : reference.triangles[t]) {
-      if (seen[v] & (part == FacePart::kIris ? 2 : 1)) continue;
-      seen[v] |= part == FacePart::kIris ? 2 : 1;
-      const int side = r[v].x >= 0 ? 0 : 1;
-      if (!(seen[v] & 4)) {
-        ball_sum[side] += r[v];
-        ++ball_count[side];
-        seen[v] |= 4;
-      }
-      if (part == FacePart::kIris) {
-        iris_sum[side] += r[v];
-        ++iris_count[side];
-      }
-    }
+    if (reference.triangle_parts[t] != FacePart::kIris) continue;
+    for (int32_t v : reference.triangles[t]) shell[r[v].x >= 0 ? 0 : 1].push_back(r[v]);
   }
-  has_eyes_ = ball_count[0] > 0 && ball_count[1] > 0 && iris_count[0] > 0 && iris_count[1] > 0;
-  if (has_eyes_) {
-    for (int side = 0; side < 2; ++side) {
-      eye_centre_[side] = ball_sum[side] * (1.0f / ball_count[side]);
-      const Vec3f iris_centre = iris_sum[side] * (1.0f / iris_count[side]);
-      iris_axis_[side] = normalized(iris_centre - eye_centre_[side]);
-    }
-    for (size_t t = 0; t < reference.triangles.size(); ++t) {
-      if (reference.triangle_parts[t] != FacePart::kIris) continue;
-      for (int32_t v : reference.triangles[t]) {
-        const int side = r[v].x >= 0 ? 0 : 1;
-        const Vec3f d = r[v] - eye_centre_[side];
-        const Vec3f radial = d - iris_axis_[side] * dot(d, iris_axis_[side]);
-        iris_radius_[side] = std::max(iris_radius_[side], length(radial));
-      }
-    }
-  }
+  has_eyes_ = shell[0].size() >= 4 && shell[1].size() >= 4;
+  if (has_eyes_)
+    for (int side = 0; side < 2; ++side) eye_centre_[side] = fit_sphere_centre(shell[side]);
 }
 
 Vec3f AlbedoModel::skin(const AlbedoParams& params, Vec3f p) const {
@@ -250,13 +224,14 @@ Vec3f AlbedoModel::evaluate(const AlbedoParams& params, FacePart part, Vec3f p) 
     }
     case FacePart::kIris: {
       if (!has_eyes_) return clamp01(params.iris);
-      const int side = p.x >= 0 ? 0 : 1;
-      const Vec3f d = p - eye_centre_[side];
-      const float radial = length(d - iris_axis_[side] * dot(d, iris_axis_[side]));
-      const float t = radial / std::max(iris_radius_[side], 1e-6f);
+      const Vec3f d = normalized(p - eye_centre_[p.x >= 0 ? 0 : 1]);
+      const float angle = std::acos(std::clamp(d.z, -1.0f, 1.0f)) * (180.0f / 3.14159265f);
+      const float t = angle / kIrisHalfAngleDeg;  // 0 at the pupil centre, 1 at the limbus
       const Vec3f pupil{0.01f, 0.01f, 0.01f};
       const Vec3f ring = params.iris * (0.75f + 0.5f * t);  // lighter towards the limbus
-      return clamp01(mix(pupil, ring, smoothstep(0.32f, 0.4f, t)));
+      Vec3f color = mix(pupil, ring, smoothstep(0.34f, 0.42f, t));
+      color = mix(color, params.sclera, smoothstep(0.95f, 1.05f, t));
+      return clamp01(color);
     }
     case FacePart::kEyeSocket:
       return clamp01(multiply(skin(params, p), {0.9f, 0.68f, 0.68f}));

@@ -50,9 +50,8 @@ class AlbedoModel {
   float brow_front_z_ = 0.0f;
   std::array<Vec3f, 2> cheeks_{};  // blush centres
   Vec3f nose_tip_{};
-  // Per eye (0: +x side, 1: -x side): eyeball centre, iris axis and iris radius.
-  std::array<Vec3f, 2> eye_centre_{}, iris_axis_{};
-  std::array<float, 2> iris_radius_{};
+  // Per eye (0: +x side, 1: -x side): centre of the inner eyeball shell.
+  std::array<Vec3f, 2> eye_centre_{};
   bool has_eyes_ = false;
 };
 

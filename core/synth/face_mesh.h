@@ -26,6 +26,9 @@ struct FaceMesh {
 // counter-clockwise seen from outside, so normals point out of the head.
 std::vector<Vec3f> vertex_normals(const FaceMesh& mesh);
 
+// Centre of the least-squares sphere through `points` (|p - c|^2 = r^2 solved linearly).
+Vec3f fit_sphere_centre(const std::vector<Vec3f>& points);
+
 // Loads a user's own mesh (e.g. a face scan) from an OBJ file: every triangle is kept as
 // FacePart::kOther, all vertices are fitted, and the reference positions are the positions.
 // Throws facetool::Error if it has no triangles.

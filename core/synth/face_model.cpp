@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -67,6 +68,34 @@ std::vector<Vec3f> read_shape_mode(const fs::path& path, const ObjMesh& neutral,
   return mode;
 }
 
+// The outer eyeball shells (kSclera) cover the irises: their front caps, within
+// kCorneaHalfAngleDeg of +Z (the neutral face's gaze) seen from each shell's fitted centre,
+// are the clear cornea and become kCornea.
+constexpr double kCorneaHalfAngleDeg = 30.0;
+void mark_corneas(const ObjMesh& mesh, std::vector<FacePart>& parts) {
+  for (int side = 0; side < 2; ++side) {
+    auto on_side = [&](size_t t) {
+      const auto& p = mesh.positions[mesh.triangles[t][0]];
+      return parts[t] == FacePart::kSclera && (p[0] >= 0) == (side == 0);
+    };
+    std::vector<Vec3f> points;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (on_side(t))
+        for (int32_t v : mesh.triangles[t])
+          points.push_back({mesh.positions[v][0], mesh.positions[v][1], mesh.positions[v][2]});
+    if (points.size() < 4) continue;
+    const Vec3f centre = fit_sphere_centre(points);
+    const float cos_limit = static_cast<float>(std::cos(kCorneaHalfAngleDeg * 3.14159265358979 / 180.0));
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (!on_side(t)) continue;
+      Vec3f centroid{};
+      for (int32_t v : mesh.triangles[t])
+        centroid += Vec3f{mesh.positions[v][0], mesh.positions[v][1], mesh.positions[v][2]} * (1.0f / 3.0f);
+      if (normalized(centroid - centre).z > cos_limit) parts[t] = FacePart::kCornea;
+    }
+  }
+}
+
 }  // namespace
 
 FaceModel FaceModel::load(const std::string& directory) {
@@ -83,27 +112,31 @@ FaceModel FaceModel::load(const std::string& directory) {
   const bool layout_known =
       static_cast<int32_t>(neutral.positions.size()) == IctVertexLayout::kVertexCount;
 
-  // Classify polygons, keep the wanted parts, and compact the vertices they use.
+  // Classify polygons (per triangle), cut the cornea out of the outer eyeball shells, then keep
+  // the wanted parts and compact the vertices they use.
+  std::vector<FacePart> parts(neutral.triangles.size(), FacePart::kOther);
+  std::vector<int32_t> corners;
+  for (size_t t = 0; t < neutral.triangles.size();) {
+    // A polygon's triangles are consecutive: gather all its corners to classify it.
+    const int32_t polygon = neutral.triangle_polygon[t];
+    size_t end = t;
+    corners.clear();
+    for (; end < neutral.triangles.size() && neutral.triangle_polygon[end] == polygon; ++end)
+      for (int32_t v : neutral.triangles[end]) corners.push_back(v);
+    const int32_t material = neutral.triangle_material[t];
+    const FacePart part =
+        classify_ict_polygon(material >= 0 ? neutral.materials[material] : std::string(),
+                             corners.data(), static_cast<int>(corners.size()), layout_known);
+    for (; t < end; ++t) parts[t] = part;
+  }
+  mark_corneas(neutral, parts);
+
   std::vector<int32_t> new_index(neutral.positions.size(), -1);
   std::vector<int32_t> kept_vertices;
   FaceModel model;
   FaceMesh& mesh = model.neutral_;
-  int32_t polygon = -1;
-  FacePart part = FacePart::kOther;
-  std::vector<int32_t> corners;
   for (size_t t = 0; t < neutral.triangles.size(); ++t) {
-    if (neutral.triangle_polygon[t] != polygon) {
-      // Gather all corners of this polygon (its triangles are consecutive) to classify it.
-      polygon = neutral.triangle_polygon[t];
-      corners.clear();
-      for (size_t u = t; u < neutral.triangles.size() && neutral.triangle_polygon[u] == polygon; ++u)
-        for (int32_t v : neutral.triangles[u]) corners.push_back(v);
-      const int32_t material = neutral.triangle_material[t];
-      part = classify_ict_polygon(material >= 0 ? neutral.materials[material] : std::string(),
-                                  corners.data(), static_cast<int>(corners.size()),
-                                  layout_known);
-    }
-    if (!is_kept_part(part)) continue;
+    if (!is_kept_part(parts[t])) continue;
     std::array<int32_t, 3> triangle{};
     for (int k = 0; k < 3; ++k) {
       const int32_t v = neutral.triangles[t][k];
@@ -114,7 +147,7 @@ FaceModel FaceModel::load(const std::string& directory) {
       triangle[k] = new_index[v];
     }
     mesh.triangles.push_back(triangle);
-    mesh.triangle_parts.push_back(part);
+    mesh.triangle_parts.push_back(parts[t]);
   }
   for (int32_t v : kept_vertices) {
     const auto& p = neutral.positions[v];

@@ -9,6 +9,7 @@ bool is_kept_part(FacePart part) {
     case FacePart::kGumsTongue:
     case FacePart::kTeeth:
     case FacePart::kEyeOverlay:
+    case FacePart::kCornea:
       return false;
     default:
       return true;
@@ -22,6 +23,7 @@ const char* face_part_name(FacePart part) {
     case FacePart::kEyeSocket: return "eye_socket";
     case FacePart::kSclera: return "sclera";
     case FacePart::kIris: return "iris";
+    case FacePart::kCornea: return "cornea";
     case FacePart::kMouthSocket: return "mouth_socket";
     case FacePart::kGumsTongue: return "gums_tongue";
     case FacePart::kTeeth: return "teeth";

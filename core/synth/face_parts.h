@@ -10,8 +10,10 @@ enum class FacePart : uint8_t {
   kFace,         // the face region (material M_Face), plus the inner lip rim
   kHeadNeck,     // back of the head, ears and neck (M_BackHead outside the sockets)
   kEyeSocket,    // the skin lining the eye sockets (M_BackHead)
-  kSclera,       // eye whites (M_ScleraLeft/Right)
-  kIris,         // irises and pupils (M_IrisLeft/Right)
+  kSclera,       // eye whites: the outer eyeball shell (M_ScleraLeft/Right) minus its cornea
+  kIris,         // the inner eyeball shell (M_IrisLeft/Right): iris and pupil seen through the
+                 // cornea opening
+  kCornea,       // the front cap of the outer shell, over the iris (dropped: it is clear)
   kMouthSocket,  // the oral cavity lining (M_BackHead, dropped)
   kGumsTongue,   // M_GumsTongue (dropped)
   kTeeth,        // M_Teeth (dropped)

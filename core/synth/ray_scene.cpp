@@ -102,23 +102,22 @@ RayScene::Hit RayScene::intersect(Vec3f origin, Vec3f direction) const {
   return hit;
 }
 
-uint32_t RayScene::occluded16(Vec3f origin, const float* dir_x, const float* dir_y,
-                              const float* dir_z, int count, float tnear) const {
+uint32_t RayScene::occluded16(const Packet16& packet, float tnear) const {
   RTCIntersectContext context;
-  rtcInitIntersectContext(&context);  // incoherent: faster than coherent for these rays
+  rtcInitIntersectContext(&context);
   alignas(64) int valid[16];
   RTCRay16 rays;
   const float infinity = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 16; ++k) {
-    const bool used = k < count;
+    const bool used = (packet.active >> k) & 1u;
     valid[k] = used ? -1 : 0;
-    rays.org_x[k] = origin.x;
-    rays.org_y[k] = origin.y;
-    rays.org_z[k] = origin.z;
+    rays.org_x[k] = packet.org_x[k];
+    rays.org_y[k] = packet.org_y[k];
+    rays.org_z[k] = packet.org_z[k];
     rays.tnear[k] = tnear;
-    rays.dir_x[k] = used ? dir_x[k] : 0.0f;
-    rays.dir_y[k] = used ? dir_y[k] : 0.0f;
-    rays.dir_z[k] = used ? dir_z[k] : 1.0f;
+    rays.dir_x[k] = packet.dir_x[k];
+    rays.dir_y[k] = packet.dir_y[k];
+    rays.dir_z[k] = packet.dir_z[k];
     rays.time[k] = 0.0f;
     rays.tfar[k] = infinity;
     rays.mask[k] = 0xFFFFFFFFu;
@@ -127,8 +126,8 @@ uint32_t RayScene::occluded16(Vec3f origin, const float* dir_x, const float* dir
   }
   rtcOccluded16(valid, impl_->scene, &context, &rays);
   uint32_t blocked = 0;
-  for (int k = 0; k < count; ++k)
-    if (rays.tfar[k] < 0.0f) blocked |= 1u << k;  // Embree sets tfar = -inf on a hit
+  for (int k = 0; k < 16; ++k)
+    if (((packet.active >> k) & 1u) && rays.tfar[k] < 0.0f) blocked |= 1u << k;  // hit: -inf
   return blocked;
 }
 

@@ -26,11 +26,15 @@ class RayScene {
   };
   Hit intersect(Vec3f origin, Vec3f direction) const;
 
-  // Occlusion of up to 16 rays leaving `origin` along the given unit directions (lanes
-  // [0, count) are used) between distances tnear and infinity. Bit k of the result is set when
-  // ray k hits a triangle. Rays are tested as one incoherent rtcOccluded16 packet.
-  uint32_t occluded16(Vec3f origin, const float* dir_x, const float* dir_y, const float* dir_z,
-                      int count, float tnear) const;
+  // Up to 16 rays as structure-of-arrays; lane k is used when bit k of `active` is set.
+  struct Packet16 {
+    alignas(64) float org_x[16], org_y[16], org_z[16];
+    alignas(64) float dir_x[16], dir_y[16], dir_z[16];
+    uint32_t active = 0;
+  };
+  // Occlusion between distance `tnear` and infinity, as one incoherent rtcOccluded16 call.
+  // Bit k of the result is set when active ray k hits a triangle.
+  uint32_t occluded16(const Packet16& packet, float tnear) const;
 
  private:
   struct Impl;

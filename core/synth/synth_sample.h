@@ -33,6 +33,9 @@ struct SynthSample {
   std::string light_source;       // file the light came from
   std::string shape;              // "identity[...] expressions[name=weight ...]" for people
   int64_t rays_cast = 0;          // visibility rays (not stored)
+  // Where the time went, in thread CPU seconds (not stored): shape + pose + BVH + primary rays, visibility rays,
+  // albedo + light + rendering + background.
+  double seconds_geometry = 0, seconds_visibility = 0, seconds_shading = 0;
 
   size_t plane() const { return static_cast<size_t>(width) * height; }
 };

@@ -3,6 +3,7 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"
+#include "core/util/error.h"
 
 namespace facetool {
 
@@ -21,33 +22,49 @@ VisibilitySampler::VisibilitySampler(int direction_count) {
 
 int64_t VisibilitySampler::integrate(const RayScene& scene, Vec3f p, Vec3f n, float offset,
                                      float out[9]) const {
-  const Vec3f origin = p + n * offset;
-  double sum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  alignas(64) float px[16], py[16], pz[16];
-  int lane_direction[16];
-  int lanes = 0;
-  int64_t cast = 0;
-  auto flush = [&] {
-    const uint32_t blocked = scene.occluded16(origin, px, py, pz, lanes, 0.0f);
-    for (int k = 0; k < lanes; ++k) {
-      if (blocked & (1u << k)) continue;
-      const float* y = &basis_[static_cast<size_t>(lane_direction[k]) * 9];
-      for (int i = 0; i < 9; ++i) sum[i] += y[i];
-    }
-    cast += lanes;
-    lanes = 0;
-  };
-  const int count = direction_count();
-  for (int s = 0; s < count; ++s) {
-    if (dir_x_[s] * n.x + dir_y_[s] * n.y + dir_z_[s] * n.z <= 0.0f) continue;
-    px[lanes] = dir_x_[s];
-    py[lanes] = dir_y_[s];
-    pz[lanes] = dir_z_[s];
-    lane_direction[lanes++] = s;
-    if (lanes == 16) flush();
+  return integrate_group(scene, &p, &n, 1, offset, out);
+}
+
+int64_t VisibilitySampler::integrate_group(const RayScene& scene, const Vec3f* p, const Vec3f* n,
+                                           int count, float offset, float* out) const {
+  check(count >= 1 && count <= 16, "integrate_group: 1..16 points, got ", count);
+  RayScene::Packet16 packet;
+  for (int k = 0; k < count; ++k) {
+    const Vec3f origin = p[k] + n[k] * offset;
+    packet.org_x[k] = origin.x;
+    packet.org_y[k] = origin.y;
+    packet.org_z[k] = origin.z;
   }
-  if (lanes > 0) flush();
-  for (int i = 0; i < 9; ++i) out[i] = static_cast<float>(sum[i] * weight_);
+  for (int k = count; k < 16; ++k) {
+    packet.org_x[k] = packet.org_y[k] = packet.org_z[k] = 0.0f;
+    packet.dir_x[k] = packet.dir_y[k] = 0.0f;
+    packet.dir_z[k] = 1.0f;
+  }
+  double sum[16][9] = {};
+  int64_t cast = 0;
+  const int directions = direction_count();
+  for (int s = 0; s < directions; ++s) {
+    const float dx = dir_x_[s], dy = dir_y_[s], dz = dir_z_[s];
+    uint32_t active = 0;
+    for (int k = 0; k < count; ++k) {
+      if (dx * n[k].x + dy * n[k].y + dz * n[k].z <= 0.0f) continue;  // below: occluded
+      active |= 1u << k;
+      packet.dir_x[k] = dx;
+      packet.dir_y[k] = dy;
+      packet.dir_z[k] = dz;
+    }
+    if (!active) continue;
+    packet.active = active;
+    const uint32_t open = active & ~scene.occluded16(packet, 0.0f);
+    cast += __builtin_popcount(active);
+    if (!open) continue;
+    const float* y = &basis_[static_cast<size_t>(s) * 9];
+    for (int k = 0; k < count; ++k)
+      if ((open >> k) & 1u)
+        for (int i = 0; i < 9; ++i) sum[k][i] += y[i];
+  }
+  for (int k = 0; k < count; ++k)
+    for (int i = 0; i < 9; ++i) out[9 * k + i] = static_cast<float>(sum[k][i] * weight_);
   return cast;
 }
 

@@ -21,6 +21,13 @@ class VisibilitySampler {
   // blocked of Y_i(d). Writes 9 coefficients to `out`; returns the number of rays cast.
   int64_t integrate(const RayScene& scene, Vec3f p, Vec3f n, float offset, float out[9]) const;
 
+  // The same for up to 16 points at once (best when they are neighbours): for each direction,
+  // the rays of all points that see it above their surface go as one packet, which shares
+  // the BVH traversal between similar rays. Results equal `integrate` per point up to Embree's
+  // packet/single-ray rounding. Writes 9 coefficients per point to out[9 * k ...].
+  int64_t integrate_group(const RayScene& scene, const Vec3f* p, const Vec3f* n, int count,
+                          float offset, float* out) const;
+
   // The same sum with no geometry at all (every upper-hemisphere direction open): the sampled
   // hemisphere whose continuous counterpart has analytic coefficients.
   void open_hemisphere(Vec3f n, float out[9]) const;

@@ -75,7 +75,9 @@ std::vector<OpCase> element_wise_cases() {
                      put(out, "y", ops::add(a, b));
                      Tensor dy = rnd(be, a.shape(), 3);
                      gradients(out, be, {{"da", a.shape()}, {"db", a.shape()}},
-                               [&](const auto& d, bool acc) { ops::add_backward(dy, d[0], d[1], acc); });
+                               [&](const auto& d, bool acc) {
+                                 ops::add_backward(dy, d[0], d[1], acc);
+                               });
                      return std::optional<Outputs>(out);
                    }});
   cases.push_back({"mul", kExactAtol, kExactRtol, [](Backend& be, const Geometry& g) {

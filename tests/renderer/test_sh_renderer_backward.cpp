@@ -4,6 +4,7 @@
 #include <random>
 
 #include "core/backend/registry.h"
+#include "core/plugin/renderer_autograd.h"
 #include "render_fixture.h"
 #include "tests/support/test_support.h"
 
@@ -136,6 +137,31 @@ TEST(ShRendererBackward, ZeroLengthNormalHasZeroGradient) {
     EXPECT_EQ(da[a * 2 + 1], 0.0f);
   }
   for (int j = 0; j < 9; ++j) EXPECT_EQ(dv[j * 2 + 1], 0.0f);
+}
+
+}  // namespace
+}  // namespace facetool::testing
+
+
+namespace facetool::testing {
+namespace {
+
+TEST(ShRendererAutograd, MatchesThePluginBackwardAndBlocksVisibility) {
+  Backend& cpu = get_backend("cpu");
+  const HostScene s = random_scene(1, 2, 3, 10);
+  Loss loss = random_loss(s, 100);
+  std::fill(loss.w_shading.begin(), loss.w_shading.end(), 0.0f);
+  const Grads expected = analytic(s, loss);
+  const RenderInputs in = upload(cpu, s);
+  ag::Variable albedo(in.albedo, true), normal(in.normal, true), light(in.light, true);
+  ag::Variable visibility(in.visibility, true);
+  ag::Variable image =
+      render_image(sh_renderer(), albedo, normal, ag::stop_gradient(visibility), light);
+  image.backward(Tensor::from_host(cpu, Shape{1, 3, 2, 3}, loss.w_image));
+  EXPECT_TRUE(all_close(albedo.grad().to_host(), expected.albedo.to_host(), 1e-6, 1e-6));
+  EXPECT_TRUE(all_close(normal.grad().to_host(), expected.normal.to_host(), 1e-6, 1e-6));
+  EXPECT_TRUE(all_close(light.grad().to_host(), expected.light.to_host(), 1e-6, 1e-6));
+  EXPECT_FALSE(visibility.has_grad());
 }
 
 }  // namespace

@@ -1,0 +1,244 @@
+// `facetool light`: environment maps to SH lights, conversion between light formats, previews.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "apps/facetool/commands/command.h"
+#include "apps/facetool/commands/command_options.h"
+#include "core/light/light_formats.h"
+#include "core/light/light_preview.h"
+#include "core/sh/envmap_projection.h"
+#include "core/sh/light_clamp.h"
+#include "core/sh/sh_rotation.h"
+
+namespace po = boost::program_options;
+
+namespace facetool {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const char kOverview[] =
+    "usage: facetool light <subcommand> [options]\n\n"
+    "SH lights (27 coefficients: R0..R8, G0..G8, B0..B8; docs/conventions.md):\n"
+    "  from-envmap ENV.{hdr,exr} -o light.json   project an equirectangular environment map\n"
+    "  convert IN OUT --to {facetool,sfsnet,dpr}  convert between light file formats\n"
+    "  show LIGHT -o light.png                    picture: lit sphere + radiance panorama\n\n"
+    "Run 'facetool light <subcommand> --help' for its options.\n";
+
+void require_existing_file(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  check(std::filesystem::is_regular_file(path, ec), what, " '", path,
+        "' does not exist or is not a file");
+}
+
+// "yaw,pitch,roll" in degrees -> the three angles; UsageError otherwise.
+std::array<double, 3> parse_rotation(const std::string& text) {
+  std::array<double, 3> angles{};
+  std::istringstream in(text);
+  std::string part;
+  int count = 0;
+  bool ok = true;
+  while (std::getline(in, part, ',')) {
+    char* end = nullptr;
+    const double value = std::strtod(part.c_str(), &end);
+    if (count >= 3 || part.empty() || *end != '\0' || !std::isfinite(value)) ok = false;
+    if (count < 3) angles[count] = value;
+    ++count;
+  }
+  if (!ok || count != 3)
+    throw UsageError("--rotate expects yaw,pitch,roll in degrees such as 30,0,0 (write "
+                     "--rotate=-30,0,0 for a negative first angle); got '" + text + "'");
+  return angles;
+}
+
+sh::Mat3 multiply(const sh::Mat3& a, const sh::Mat3& b) {
+  sh::Mat3 out{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) out[i][j] += a[i][k] * b[k][j];
+  return out;
+}
+
+// R = Ry(yaw) Rx(pitch) Rz(roll), each counter-clockwise about its axis looking down the axis
+// towards the origin (right-hand rule), the order and sign `facetool synth` uses for head poses.
+sh::Mat3 rotation_from_yaw_pitch_roll(const std::array<double, 3>& degrees) {
+  const double y = degrees[0] * kPi / 180, p = degrees[1] * kPi / 180, r = degrees[2] * kPi / 180;
+  const sh::Mat3 ry{{{std::cos(y), 0, std::sin(y)}, {0, 1, 0}, {-std::sin(y), 0, std::cos(y)}}};
+  const sh::Mat3 rx{{{1, 0, 0}, {0, std::cos(p), -std::sin(p)}, {0, std::sin(p), std::cos(p)}}};
+  const sh::Mat3 rz{{{std::cos(r), -std::sin(r), 0}, {std::sin(r), std::cos(r), 0}, {0, 0, 1}}};
+  return multiply(ry, multiply(rx, rz));
+}
+
+std::string format_channel(const sh::RgbLight& light, int index) {
+  char buffer[80];
+  std::snprintf(buffer, sizeof(buffer), "%.6g %.6g %.6g", light[index], light[9 + index],
+                light[18 + index]);
+  return buffer;
+}
+
+int run_from_envmap(const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  po::options_description hidden;
+  std::string input, output, rotate;
+  options.add_options()
+      ("output,o", po::value(&output)->value_name("FILE.json")->required(),
+       "facetool light file to write")
+      ("rotate", po::value(&rotate)->value_name("YAW,PITCH,ROLL"),
+       "turn the light by these angles in degrees: R = Ry(yaw) Rx(pitch) Rz(roll), each "
+       "counter-clockwise about its axis (right-hand rule; +Y up, camera at +Z): light from w "
+       "then arrives from R w. yaw +90 moves a light from the camera's side (+Z) to +X (the "
+       "viewer's right), pitch +90 moves it from +Z to -Y (below), roll +90 moves +X to +Y. "
+       "Write --rotate=-30,0,0 for a negative yaw")
+      ("clamp", po::bool_switch(),
+       "make the light non-negative on the sphere: project max(0, L(w)) back (64,000 "
+       "directions)");
+  hidden.add_options()("input", po::value(&input)->required(), "environment map");
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "light from-envmap ENV.{hdr,exr} -o FILE.json [options]",
+          "Projects an equirectangular environment map (HDR, EXR or any image OpenImageIO reads;\n"
+          "linear radiance; top row up, centre = -Z = straight ahead of the camera, u = 3/4 is\n"
+          "+X) onto the 9 SH per channel, each pixel weighted by its exact solid angle, and\n"
+          "writes a facetool light JSON with the source file and rotation as metadata.",
+          options, positional, args, values, hidden))
+    return 0;
+  if (output.empty()) throw UsageError("-o FILE.json must not be empty");
+  require_existing_file(input, "environment map");
+  const std::array<double, 3> angles =
+      rotate.empty() ? std::array<double, 3>{0, 0, 0} : parse_rotation(rotate);
+  const bool clamp = values["clamp"].as<bool>();
+
+  const sh::EnvironmentMap map = sh::read_environment_map(input);
+  for (size_t i = 0; i < map.rgb.size(); ++i)
+    check(std::isfinite(map.rgb[i]), "environment map '", input, "' holds a NaN or infinite value at pixel (",
+          (i / 3) % map.width, ", ", (i / 3) / map.width, "); fix the map");
+  sh::RgbLight light = sh::project_environment_map(map);
+  if (!rotate.empty()) light = sh::rotate_light(light, rotation_from_yaw_pitch_roll(angles));
+  if (clamp) light = sh::clamp_light_nonnegative(light);
+
+  light::LightFile file;
+  file.light = light;
+  file.metadata["source"] = input;
+  file.metadata["source_size"] = std::to_string(map.width) + "x" + std::to_string(map.height);
+  char rotation[160];
+  std::snprintf(rotation, sizeof(rotation),
+                "yaw %.9g, pitch %.9g, roll %.9g degrees; R = Ry(yaw) Rx(pitch) Rz(roll)",
+                angles[0], angles[1], angles[2]);
+  file.metadata["rotation"] = rotation;
+  file.metadata["clamped"] = clamp ? "true" : "false";
+  file.metadata["created_by"] = "facetool light from-envmap";
+  light::write_light(output, file, light::Format::Facetool);
+  std::cout << "light: " << output << " (from " << input << ", " << map.width << "x"
+            << map.height << ")\n"
+            << "  L_0 (R G B): " << format_channel(light, 0) << "  (mean radiance x 2 sqrt(pi))\n";
+  return 0;
+}
+
+int run_convert(const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  po::options_description hidden;
+  std::string input, output, to, from;
+  options.add_options()
+      ("to", po::value(&to)->value_name("FORMAT")->required(),
+       "format to write: facetool (JSON), sfsnet (27 numbers), dpr (9 numbers, grey)")
+      ("from", po::value(&from)->value_name("FORMAT"),
+       "format of IN (default: guessed; .json = facetool, 27 numbers = sfsnet, 9 = dpr)");
+  hidden.add_options()
+      ("input", po::value(&input)->required(), "light to read")
+      ("output", po::value(&output)->required(), "light to write");
+  po::positional_options_description positional;
+  positional.add("input", 1).add("output", 1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "light convert IN OUT --to {facetool,sfsnet,dpr} [--from FORMAT]",
+          "Converts a light between facetool's JSON (radiance coefficients in facetool's frame),\n"
+          "SfSNet's 27-value text and DPR's 9-value grey text (shading coefficients in their own\n"
+          "order and frame; see docs/conventions.md). Writing DPR keeps Rec. 601 luma only.",
+          options, positional, args, values, hidden))
+    return 0;
+  light::Format to_format = light::Format::Facetool, from_format = light::Format::Facetool;
+  try {
+    to_format = light::format_from_name(to);
+    if (!from.empty()) from_format = light::format_from_name(from);
+  } catch (const Error& e) {
+    throw UsageError(std::string("--to/--from: ") + e.what());
+  }
+  require_existing_file(input, "light file");
+  if (from.empty()) from_format = light::guess_format(input);
+  light::LightFile file = light::read_light(input, &from_format);
+  if (from_format != light::Format::Facetool) {
+    file.metadata["source"] = input;
+    file.metadata["source_format"] = light::format_name(from_format);
+  }
+  light::write_light(output, file, to_format);
+  std::cout << "light: " << output << " (" << light::format_name(to_format) << ", from "
+            << light::format_name(from_format) << " '" << input << "')\n";
+  if (to_format == light::Format::Dpr && from_format != light::Format::Dpr)
+    std::cerr << "facetool: note: DPR lights are grey; the colour was reduced to Rec. 601 luma\n";
+  return 0;
+}
+
+int run_show(const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  po::options_description hidden;
+  std::string input, output;
+  int size = 256;
+  options.add_options()
+      ("output,o", po::value(&output)->value_name("FILE.png")->required(), "PNG to write")
+      ("size", po::value(&size)->value_name("N")->default_value(256),
+       "picture height in pixels (16..4096); the width is 3 N");
+  hidden.add_options()("input", po::value(&input)->required(), "light file");
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "light show LIGHT -o FILE.png [--size N]",
+          "Draws a light (any format) so a person can see its direction and colour: on the left\n"
+          "the hemisphere facing the camera (+Y up, +X right) as facetool renders it with albedo\n"
+          "1 and no occlusion; on the right the radiance L(w) as an equirectangular panorama\n"
+          "(centre = straight ahead of the camera (-Z), u = 1/4 is -X, 3/4 is +X, the edges are\n"
+          "behind the camera; dotted lines mark the horizon and those three columns). Each panel\n"
+          "is scaled by its own maximum; blue diagonal hatching marks negative values, which SH\n"
+          "lights can have (use `light from-envmap --clamp` to remove them).",
+          options, positional, args, values, hidden))
+    return 0;
+  const std::string extension = std::filesystem::path(output).extension().string();
+  if (extension != ".png" && extension != ".PNG")
+    throw UsageError("-o '" + output + "': light show writes a PNG; name it FILE.png");
+  if (size < 16 || size > 4096) throw UsageError("--size must be within 16..4096");
+  require_existing_file(input, "light file");
+  const light::LightFile file = light::read_light(input);
+  const light::LightPreview preview = light::write_light_preview(output, file.light, size);
+  std::printf("preview: %s (%dx%d)\n  sphere shading max %.4g%s\n  radiance max %.4g, min %.4g%s\n",
+              output.c_str(), preview.image.width, preview.image.height, preview.shading_max,
+              preview.negative_shading ? " (negative somewhere: hatched blue)" : "",
+              preview.radiance_max, preview.radiance_min,
+              preview.radiance_min < 0 ? " (negative where hatched blue)" : "");
+  return 0;
+}
+
+int run_light(CommandContext&, const std::vector<std::string>& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    (args.empty() ? std::cerr : std::cout) << kOverview;
+    if (args.empty()) throw UsageError("light: no subcommand given");
+    return 0;
+  }
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (args[0] == "from-envmap") return run_from_envmap(rest);
+  if (args[0] == "convert") return run_convert(rest);
+  if (args[0] == "show") return run_show(rest);
+  throw UsageError("unknown light subcommand '" + args[0] +
+                   "'; subcommands: from-envmap, convert, show");
+}
+
+const CommandRegistration registration{
+    {"light", "SH lights: project environment maps, convert formats, draw a preview",
+     run_light}};
+
+}  // namespace
+}  // namespace facetool

@@ -1,0 +1,35 @@
+// Decomposer: face crops in, the paper's components out (network, then the renderer).
+#pragma once
+
+#include <vector>
+
+#include "core/plugin/network_plugin.h"
+#include "core/plugin/renderer_plugin.h"
+
+namespace facetool {
+
+// Host copies of one batch's results, planar per image (NCHW), S = the network's input size.
+struct Decomposition {
+  int count = 0;
+  int size = 0;
+  std::vector<float> albedo;          // [N,3,S,S] linear, in [0, 1]
+  std::vector<float> normal;          // [N,3,S,S] unit vectors, world frame
+  std::vector<float> visibility;      // [N,9,S,S] SH coefficients
+  std::vector<float> light;           // [N,27]
+  std::vector<float> shading;         // [N,3,S,S] renderer's shading (image = albedo * shading)
+  std::vector<float> reconstruction;  // [N,3,S,S] re-rendered image
+};
+
+class Decomposer {
+ public:
+  // Both plugins must outlive the decomposer; the network must be built and loaded.
+  Decomposer(NetworkPlugin& network, RendererPlugin& renderer);
+  // `images`: N crops as planar linear RGB [N,3,S,S] on the host. Runs in eval mode on `backend`.
+  Decomposition run(Backend& backend, const std::vector<float>& images, int count);
+
+ private:
+  NetworkPlugin& network_;
+  RendererPlugin& renderer_;
+};
+
+}  // namespace facetool

@@ -1,0 +1,51 @@
+// Light files: facetool's JSON, SfSNet's 27-value text and DPR's 9-value grey text, both ways.
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+
+#include "core/sh/sh_types.h"
+
+namespace facetool::light {
+
+// facetool JSON: {"format": "facetool-light", "version": 1, "coefficients": {"r": [9],
+//   "g": [9], "b": [9]}, "metadata": {...}} in the paper's basis and world frame
+//   (docs/conventions.md). The renderer's image is albedo / pi * integral L v max(0, w.n) dw.
+// SfSNet text: 27 numbers, 9 per channel R, G, B, in SfSNet's order [1, z, x, y, 3z^2-1, xz,
+//   yz, x^2-y^2, xy] with the clamped-cosine attenuation folded into its basis, so its
+//   shading is sum_i s_i A_l Y_i(n) and its image albedo * shading (no 1/pi).
+// DPR text: 9 numbers (grey), one per line, in the paper's order, same attenuated basis as
+//   SfSNet, in DPR's camera frame (x right, z up, -y towards the viewer).
+enum class Format { Facetool, Sfsnet, Dpr };
+
+Format format_from_name(const std::string& name);  // "facetool" | "sfsnet" | "dpr"
+const char* format_name(Format format);
+// By extension and content: .json -> facetool; text with 27 numbers -> sfsnet, 9 -> dpr.
+Format guess_format(const std::string& path);
+
+struct LightFile {
+  sh::RgbLight light{};                         // facetool coefficients
+  std::map<std::string, std::string> metadata;  // facetool JSON only
+};
+
+// Reads a light in any format (guessed when `format` is null) into facetool coefficients.
+// Throws facetool::Error naming the file for unreadable files, wrong counts, non-numbers, NaN.
+LightFile read_light(const std::string& path, const Format* format = nullptr);
+// Writes atomically in `format` (a grey DPR file takes Rec. 601 luma of R, G, B).
+void write_light(const std::string& path, const LightFile& light, Format format);
+
+// The conversions behind the text formats (SfSNet: 27 values; DPR: 9).
+sh::RgbLight from_sfsnet(const std::array<double, 27>& values);
+std::array<double, 27> to_sfsnet(const sh::RgbLight& light);
+sh::RgbLight from_dpr(const std::array<double, 9>& values);
+std::array<double, 9> to_dpr(const sh::RgbLight& light);
+
+// Each format's own shading at a unit normal given in that format's frame, written from its
+// definition; the tests compare them with facetool's renderer on the converted light.
+double sfsnet_shading(const std::array<double, 9>& channel, const sh::Vec3& n);
+double dpr_shading(const std::array<double, 9>& values, const sh::Vec3& n_dpr);
+// Direction conversion between DPR's frame and facetool's.
+sh::Vec3 dpr_to_world(const sh::Vec3& d);
+
+}  // namespace facetool::light
