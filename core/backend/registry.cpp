@@ -1,6 +1,7 @@
 // Backend registry: the built-in cpu backend plus modules loaded at run time (opencl).
 #include "core/backend/registry.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -48,7 +49,15 @@ std::vector<std::string> module_search_dirs() {
     dirs.push_back(exe + "/../lib/facetool");
   }
   if (std::string(FACETOOL_MODULE_DIR).size()) dirs.push_back(FACETOOL_MODULE_DIR);
-  return dirs;
+  // The same folder reached twice (FACETOOL_BACKEND_PATH pointing beside the executable) once.
+  std::vector<std::string> unique;
+  for (const std::string& d : dirs) {
+    std::error_code ec;
+    const std::string canonical = std::filesystem::weakly_canonical(d, ec).string();
+    const std::string key = ec ? d : canonical;
+    if (std::find(unique.begin(), unique.end(), key) == unique.end()) unique.push_back(key);
+  }
+  return unique;
 }
 
 ModuleSlot load_module(const std::string& name) {

@@ -61,6 +61,9 @@ void write_exr_atomically(const std::string& path, const LayeredImage& image) {
     spec.alpha_channel = -1;
     spec.z_channel = -1;
     spec.attribute("compression", "zip");
+    // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
+    // empty so the same content always gives the same bytes.
+    spec.attribute("DateTime", "");
     for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
     if (!output->open(temp_path, spec))
       fail("cannot create '", temp_path, "': ", output->geterror());

@@ -41,6 +41,8 @@ class NetworkPlugin : public Plugin {
   // images [N,3,S,S], RGB in [0,1]. `training` selects batch statistics in batch norm (and
   // updates the running ones).
   virtual NetworkOutputs forward(const ag::Variable& images, bool training) = 0;
+  // Multiply-adds x 2 of one image's forward pass (for benchmarks); 0 when unknown.
+  virtual double forward_flops_per_image() const { return 0.0; }
 };
 
 }  // namespace facetool

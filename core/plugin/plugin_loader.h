@@ -1,6 +1,7 @@
 // Plugin loader: finds plugin libraries on a search path, checks their descriptors, creates them.
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,7 +40,7 @@ class PluginLoader {
   // kept in problems(); a file already loaded (same path) is skipped silently.
   void discover();
 
-  const std::vector<PluginInfo>& plugins() const { return plugins_; }
+  const std::deque<PluginInfo>& plugins() const { return plugins_; }
   const std::vector<std::string>& problems() const { return problems_; }
   // The plugin of `kind` called `name`; throws listing the available ones if none matches.
   const PluginInfo& find(uint32_t kind, const std::string& name) const;
@@ -48,7 +49,7 @@ class PluginLoader {
 
  private:
   std::vector<std::string> dirs_;
-  std::vector<PluginInfo> plugins_;
+  std::deque<PluginInfo> plugins_;  // a deque: references handed out stay valid
   std::vector<std::string> problems_;
 };
 

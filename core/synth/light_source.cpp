@@ -128,7 +128,8 @@ SampledLight sample_light(Random& random, const std::vector<LightSource>& source
   const double yaw = random.uniform(0.0, 2.0 * kPi);
   const double tilt_x = random.uniform(-sampling.max_tilt_deg, sampling.max_tilt_deg) * degree;
   const double tilt_z = random.uniform(-sampling.max_tilt_deg, sampling.max_tilt_deg) * degree;
-  s.rotation = rotation_y(static_cast<float>(yaw)) * rotation_x(static_cast<float>(tilt_x)) *
+  if (sampling.rotate)
+    s.rotation = rotation_y(static_cast<float>(yaw)) * rotation_x(static_cast<float>(tilt_x)) *
                rotation_z(static_cast<float>(tilt_z));
   Vec3f gain;
   for (int c = 0; c < 3; ++c)

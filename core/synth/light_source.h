@@ -28,8 +28,8 @@ extern const char* const kBlenderStudioLightsDir;
 // or saying where to find lights when none are found.
 std::vector<LightSource> load_light_sources(const std::vector<std::string>& paths);
 
-// An SH light file: 27 numbers (whitespace or commas; '#' starts a comment), either 9 rows of
-// "R G B" (row i = coefficient i), which is the format written by facetool.
+// An SH light file: 27 numbers (whitespace or commas; '#' starts a comment) read as 9 rows of
+// "R G B", row i holding coefficient i (sh_basis.h order) of each channel.
 sh::RgbLight read_sh_light_file(const std::string& path);
 
 // Projection of max(0, L) once more when L dips below zero anywhere, then (if rounding leaves a
@@ -38,6 +38,7 @@ sh::RgbLight read_sh_light_file(const std::string& path);
 sh::RgbLight make_light_nonnegative(const sh::RgbLight& light);
 
 struct LightSampling {
+  bool rotate = true;        // false: keep the lights as loaded (tests)
   double max_tilt_deg = 20;  // besides a full turn about +Y, tilt about X and Z up to this
   double color_jitter = 0.1; // per-channel gain in [1 - j, 1 + j], normalised to mean 1
   double min_peak = 0.8, max_peak = 1.0;  // brightest face pixel after scaling (paper)

@@ -83,6 +83,17 @@ void PaperNetwork::init_random(uint64_t seed) {
   }
 }
 
+double PaperNetwork::forward_flops_per_image() const {
+  const double c = config_.width, s = config_.input_size, h = s / 2;
+  auto conv = [](double in, double out, double k, double res) { return 2 * in * out * k * k * res * res; };
+  double flops = conv(3, c / 2, 7, s) + conv(c / 2, c, 3, s) + conv(c, c, 3, h);
+  flops += 2 * 10 * conv(c, c, 3, h);                                           // residual stacks
+  flops += 2 * (conv(c, c, 3, s) + conv(c, c / 2, 3, s)) + conv(c / 2, 3, 1, s) +  // decoders
+           conv(c / 2, 12, 1, s);
+  flops += conv(3 * c, c, 1, h) + 2 * c * 27;                                   // light
+  return flops;
+}
+
 NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) {
   check(built_, "paper_network: forward() before build()");
   const Shape& s = images.shape();

@@ -40,6 +40,7 @@ class PaperNetwork final : public NetworkPlugin {
   std::vector<std::pair<std::string, Tensor>> buffers() const override;
   void init_random(uint64_t seed) override;
   NetworkOutputs forward(const ag::Variable& images, bool training) override;
+  double forward_flops_per_image() const override;
 
  private:
   NetworkConfig config_;

@@ -413,13 +413,14 @@ const std::vector<OpCase>& op_cases() {
   return cases;
 }
 
-// Spatial sizes straddling work-group and tile sizes: H*W or W of 1, 3, 31, 33, 63, 65.
+// Spatial sizes straddling work-group and tile sizes: H*W of 1, 3, 31, 33, 63, 65 (W of 1, 31,
+// 11, 9, 65), at batch 1 and 3. Kept to twelve: ctest runs every test in its own process.
 const std::vector<Geometry>& geometries() {
   static const std::vector<Geometry> all = [] {
     std::vector<Geometry> g;
     for (int64_t n : {1, 3})
       for (auto [h, w] : std::vector<std::pair<int64_t, int64_t>>{
-               {1, 1}, {1, 3}, {1, 31}, {3, 11}, {7, 9}, {5, 13}, {2, 33}, {1, 65}, {9, 7}})
+               {1, 1}, {3, 1}, {1, 31}, {3, 11}, {7, 9}, {1, 65}})
         g.push_back({n, h, w});
     return g;
   }();

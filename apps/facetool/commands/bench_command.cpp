@@ -1,8 +1,9 @@
-// `facetool bench <target>`: performance measurements (today: `ops`, the backend op table).
+// `facetool bench <target>`: performance measurements (`ops`: the op table; `network`: the paper's network).
 #include <functional>
 #include <iostream>
 #include <map>
 
+#include "apps/facetool/bench/network_benchmarks.h"
 #include "apps/facetool/bench/op_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
@@ -16,6 +17,10 @@ namespace {
 struct BenchSettings {
   std::vector<int> batches;
   int repeats = 5;
+  bool quick = false;
+  int width = 128;
+  int input_size = 128;
+  int train_batch = 20;
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -23,11 +28,26 @@ void bench_ops(CommandContext& context, const BenchSettings& settings) {
   run_op_benchmarks(backend, settings.batches, settings.repeats, std::cout);
 }
 
+void bench_network(CommandContext& context, const BenchSettings& settings) {
+  Backend& backend = get_backend(context.backend);
+  PluginLoader& loader = context.plugins();
+  auto net = std::dynamic_pointer_cast<NetworkPlugin>(
+      loader.create(loader.find(FACETOOL_PLUGIN_NETWORK, "paper_network")));
+  check(net != nullptr, "plugin 'paper_network' does not implement the network interface");
+  net->build(backend, NetworkConfig{settings.width, settings.input_size});
+  net->init_random(1);
+  NetworkBenchOptions options;
+  options.forward_batches = settings.batches;
+  options.train_batch = settings.quick ? 2 : settings.train_batch;
+  options.repeats = settings.quick ? 1 : settings.repeats;
+  run_network_benchmarks(*net, backend, net->forward_flops_per_image() / 1e9, options, std::cout);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
-      targets = {{"ops", bench_ops}};
+      targets = {{"ops", bench_ops}, {"network", bench_network}};
   return targets;
 }
 
@@ -44,7 +64,10 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "batch sizes to measure")
       ("repeats", po::value<int>()->default_value(5)->value_name("N"),
        "timed repetitions per measurement (the median is reported)")
-      ("quick", po::bool_switch(), "a fast smoke run: same as --batches 1 --repeats 3");
+      ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
+      ("width", po::value<int>()->default_value(128), "network: width (the paper: 128)")
+      ("input-size", po::value<int>()->default_value(128), "network: input size (the paper: 128)")
+      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
@@ -69,7 +92,11 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.repeats = values["repeats"].as<int>();
   if (settings.repeats < 1)
     throw UsageError("--repeats must be at least 1, got " + std::to_string(settings.repeats));
+  settings.width = values["width"].as<int>();
+  settings.input_size = values["input-size"].as<int>();
+  settings.train_batch = values["train-batch"].as<int>();
   if (values["quick"].as<bool>()) {
+    settings.quick = true;
     settings.batches = {1};
     settings.repeats = 3;
   }
@@ -78,7 +105,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance of a backend (bench ops: every op of the op table)",
+    {"bench", "measure performance: bench ops (the paper's layer shapes), bench network",
      run_bench}};
 
 }  // namespace

@@ -33,8 +33,8 @@ LayeredImage read_any(const std::string& option, const std::string& path) {
 
 // The planes named `layer` if the file has all of them, else the channel indices chosen by
 // `by_count` (empty: the count is wrong, and `expected` says what would be right).
-ComponentImage select(const std::string& option, const std::string& path,
-                      const LayeredImage& file, const std::vector<std::string>& layer,
+ComponentImage select(const std::string& option, const std::string& path, const LayeredImage& file,
+                      const std::vector<std::string>& layer,
                       std::vector<int> (*by_count)(int channels), const char* expected) {
   std::vector<int> indices;
   for (const std::string& name : layer) indices.push_back(file.find_channel(name));
@@ -82,9 +82,9 @@ bool is_float_image_file(const std::string& path) {
 }
 
 ComponentImage read_albedo_image(const std::string& path) {
-  ComponentImage image = select("--albedo", path, read_any("--albedo", path),
-                                {"albedo.R", "albedo.G", "albedo.B"}, rgb_or_grey,
-                                "RGB (3), RGBA (4) or grey (1) channels");
+  ComponentImage image =
+      select("--albedo", path, read_any("--albedo", path), {"albedo.R", "albedo.G", "albedo.B"},
+             rgb_or_grey, "RGB (3), RGBA (4) or grey (1) channels");
   if (!is_float_image_file(path))
     for (float& v : image.planes)
       if (std::isfinite(v)) v = srgb_to_linear(v);
@@ -92,9 +92,9 @@ ComponentImage read_albedo_image(const std::string& path) {
 }
 
 ComponentImage read_normal_image(const std::string& path) {
-  ComponentImage image = select("--normal", path, read_any("--normal", path),
-                                {"normal.X", "normal.Y", "normal.Z"}, xyz,
-                                "3 channels (X, Y, Z; a 4th, alpha, is ignored)");
+  ComponentImage image =
+      select("--normal", path, read_any("--normal", path), {"normal.X", "normal.Y", "normal.Z"},
+             xyz, "3 channels (X, Y, Z; a 4th, alpha, is ignored)");
   if (!is_float_image_file(path))
     for (float& v : image.planes) v = 2.0f * v - 1.0f;
   return image;
@@ -108,8 +108,9 @@ ComponentImage read_visibility_image(const std::string& path) {
 }
 
 ComponentImage read_mask_image(const std::string& path) {
-  ComponentImage image = select("--mask", path, read_any("--mask", path), {"mask"}, grey_or_equal_rgb,
-                                "1 channel (grey; grey + alpha or R = G = B also work)");
+  ComponentImage image =
+      select("--mask", path, read_any("--mask", path), {"mask"}, grey_or_equal_rgb,
+             "1 channel (grey; grey + alpha or R = G = B also work)");
   if (image.channels == 3) {
     const size_t pixels = image.plane_size();
     for (size_t p = 0; p < pixels; ++p)

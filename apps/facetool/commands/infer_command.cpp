@@ -89,7 +89,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           "network's input)\ninto albedo, normals, SH visibility and SH light, and renders them "
           "back. Per image it writes\n<output>/<name>/: input.png, reconstruction.png, "
           "albedo.png/.exr, shading.png/.exr,\nnormal.png/.exr (PNG: (n+1)/2), visibility.png "
-          "(ambient term)/.exr (9 channels), light.json.\nThe contact sheet shows per row: input, "
+          "(ambient term)/.exr (9 channels), light.json, light.png.\nThe contact sheet shows per row: input, "
           "reconstruction, albedo, shading, normal, visibility.\n8-bit inputs are taken as sRGB "
           "and decoded to linear RGB; EXR/HDR inputs as linear.",
           options, positional, args, values, hidden))

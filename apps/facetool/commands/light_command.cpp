@@ -115,8 +115,9 @@ int run_from_envmap(const std::vector<std::string>& args) {
 
   const sh::EnvironmentMap map = sh::read_environment_map(input);
   for (size_t i = 0; i < map.rgb.size(); ++i)
-    check(std::isfinite(map.rgb[i]), "environment map '", input, "' holds a NaN or infinite value at pixel (",
-          (i / 3) % map.width, ", ", (i / 3) / map.width, "); fix the map");
+    check(std::isfinite(map.rgb[i]), "environment map '", input,
+          "' holds a NaN or infinite value at pixel (", (i / 3) % map.width, ", ",
+          (i / 3) / map.width, "); fix the map");
   sh::RgbLight light = sh::project_environment_map(map);
   if (!rotate.empty()) light = sh::rotate_light(light, rotation_from_yaw_pitch_roll(angles));
   if (clamp) light = sh::clamp_light_nonnegative(light);

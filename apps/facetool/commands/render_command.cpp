@@ -160,7 +160,8 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
   const std::shared_ptr<Plugin> object =
       loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, renderer_name));
   auto* renderer = dynamic_cast<RendererPlugin*>(object.get());
-  check(renderer != nullptr, "plugin '", renderer_name, "' does not implement the renderer interface");
+  check(renderer != nullptr, "plugin '", renderer_name,
+        "' does not implement the renderer interface");
 
   const int64_t h = height, w = width;
   RenderInputs inputs;
@@ -192,10 +193,11 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
   commit_temporary(image_temporary, paths.image);
   commit_temporary(shading_temporary, paths.shading);
 
-  size_t count = rendered.empty() ? pixels : std::count(rendered.begin(), rendered.end(), 1);
+  const size_t count = rendered.empty() ? pixels : std::count(rendered.begin(), rendered.end(), 1);
   float shading_max = 0.0f;
   for (float v : shading) shading_max = std::max(shading_max, v);
-  std::printf("image: %s\nshading: %s\n  %dx%d, %zu pixels rendered by %s on %s; shading max %.4g%s\n",
+  std::printf("image: %s\nshading: %s\n  %dx%d, %zu pixels rendered by %s on %s; "
+              "shading max %.4g%s\n",
               paths.image.c_str(), paths.shading.c_str(), width, height, count,
               renderer_name.c_str(), context.backend.c_str(), shading_max,
               !paths.exr && shading_max > 1.0f ? " (clipped to 1 in the PNG; use .exr to keep it)"

@@ -6,6 +6,9 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
+#include "core/backend/registry.h"
+#include "core/plugin/renderer_plugin.h"
+#include "core/synth/plugin_renderer.h"
 #include "core/synth/synth_runner.h"
 #include "core/util/progress_bar.h"
 
@@ -36,6 +39,7 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
   uint64_t seed = 0;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int contact_rows = 16;
+  std::string renderer_name = "sh_renderer";
   SynthSettings settings;
   options.add_options()
       ("face-model", po::value(&face_model)->value_name("DIR"),
@@ -63,7 +67,10 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
        "at most this many active expressions per face")
       ("contact-sheet", po::value(&contact_sheet)->value_name("FILE.png"),
        "write a PNG: per sample image, albedo, normal, shading, ambient visibility")
-      ("contact-sheet-rows", po::value(&contact_rows)->default_value(16), "samples on the sheet");
+      ("contact-sheet-rows", po::value(&contact_rows)->default_value(16), "samples on the sheet")
+      ("renderer", po::value(&renderer_name)->default_value("sh_renderer"),
+       "renderer plugin that makes the images (the network's rendering layer), or 'reference' "
+       "for the SH library's double-precision triple product");
   po::variables_map values;
   if (!parse_command_options(
           "synth --out DIR (--face-model DIR | --mesh FILE.obj) [options]",
@@ -102,7 +109,16 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
     faces.model = std::make_shared<const FaceModel>(FaceModel::load(face_model));
   else
     faces.mesh = std::make_shared<const FaceMesh>(load_user_mesh(mesh));
-  std::shared_ptr<const ComponentRenderer> renderer = make_reference_renderer();
+  std::shared_ptr<const ComponentRenderer> renderer;
+  if (renderer_name == "reference") {
+    renderer = make_reference_renderer();
+  } else {
+    PluginLoader& loader = context.plugins();
+    auto plugin = std::dynamic_pointer_cast<RendererPlugin>(
+        loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, renderer_name)));
+    check(plugin != nullptr, "plugin '", renderer_name, "' does not implement the renderer interface");
+    renderer = make_plugin_renderer(plugin, get_backend(context.backend));
+  }
   SampleGenerator generator(faces, load_light_sources(lights), BackgroundSource(backgrounds),
                             renderer, settings);
   if (context.verbose)

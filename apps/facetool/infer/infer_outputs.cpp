@@ -6,6 +6,7 @@
 
 #include "core/io/exr_io.h"
 #include "core/light/light_formats.h"
+#include "core/light/light_preview.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -83,6 +84,7 @@ void write_decomposition(const std::string& folder, const Decomposition& d, int 
   light.metadata["source"] = source;
   light.metadata["estimated_by"] = "facetool infer";
   light::write_light(at("light.json"), light, light::Format::Facetool);
+  light::write_light_preview(at("light.png"), light.light, 128);
 }
 
 RgbImage contact_sheet_row(const Decomposition& d, int index, const std::vector<float>& input_planar) {

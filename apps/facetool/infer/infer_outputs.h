@@ -17,6 +17,7 @@ namespace facetool {
 //   normal.png/.exr      normals (PNG (n + 1) / 2 per channel; EXR the components)
 //   visibility.png/.exr  ambient visibility v_0 / (2 sqrt(pi)) as grey; EXR all 9 coefficients
 //   light.json           the 27 light coefficients (facetool format)
+//   light.png            the light's preview: a lit sphere and the radiance panorama
 // Every file is written under a temporary name and renamed.
 void write_decomposition(const std::string& folder, const Decomposition& d, int index,
                          const std::vector<float>& input_planar, const std::string& source);

@@ -1,0 +1,131 @@
+// DatasetReader: file listing, per-epoch permutations, EXR decoding on a worker thread.
+#include "core/data/dataset_reader.h"
+
+#include <algorithm>
+#include <exception>
+#include <filesystem>
+
+#include "core/synth/gbuffer.h"
+#include "core/synth/random.h"
+#include "core/synth/synth_sample.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace fs = std::filesystem;
+
+struct DatasetReader::HostBatch {
+  std::vector<float> image, albedo, normal, mask, visibility, light;
+  std::vector<std::string> files;
+  int64_t epoch = 0;
+  std::exception_ptr error;
+};
+
+DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
+    : backend_(backend), options_(std::move(options)) {
+  check(options_.batch_size > 0, "dataset reader: batch size must be positive, got ",
+        options_.batch_size);
+  check(fs::is_directory(options_.directory), "dataset folder '", options_.directory,
+        "' does not exist; make samples with `facetool synth --out DIR`");
+  for (const auto& entry : fs::directory_iterator(options_.directory)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.rfind("sample_", 0) == 0 && entry.path().extension() == ".exr")
+      files_.push_back(entry.path().string());
+  }
+  std::sort(files_.begin(), files_.end());
+  check(!files_.empty(), "dataset folder '", options_.directory,
+        "' holds no sample_*.exr files; make them with `facetool synth --out DIR`");
+  check(files_.size() >= static_cast<size_t>(options_.batch_size), "dataset folder '",
+        options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
+        options_.batch_size);
+  const SynthSampleInfo first = read_synth_sample_info(files_[0]);
+  width_ = first.width;
+  height_ = first.height;
+  worker_ = std::thread([this] { produce(); });
+}
+
+DatasetReader::~DatasetReader() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  worker_.join();
+}
+
+DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
+  const int64_t per_epoch = static_cast<int64_t>(files_.size()) / options_.batch_size;
+  HostBatch batch;
+  batch.epoch = batch_number / per_epoch;
+  std::vector<size_t> order(files_.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  if (options_.shuffle) {  // Fisher-Yates with the generator's portable RNG
+    Random random(derive_seed(options_.seed, static_cast<uint64_t>(batch.epoch)));
+    for (size_t k = order.size(); k > 1; --k) std::swap(order[k - 1], order[random.index(k)]);
+  }
+  const int64_t first = (batch_number % per_epoch) * options_.batch_size;
+  for (int b = 0; b < options_.batch_size; ++b) {
+    const std::string& file = files_[order[first + b]];
+    const SynthSample s = read_synth_sample(file);
+    check(s.width == width_ && s.height == height_, "sample '", file, "' is ", s.width, "x",
+          s.height, " but the dataset's first sample is ", width_, "x", height_);
+    batch.files.push_back(file);
+    batch.image.insert(batch.image.end(), s.image.begin(), s.image.end());
+    batch.albedo.insert(batch.albedo.end(), s.albedo.begin(), s.albedo.end());
+    batch.normal.insert(batch.normal.end(), s.normal.begin(), s.normal.end());
+    const std::vector<float> eroded = erode_mask(s.mask, s.width, s.height);
+    batch.mask.insert(batch.mask.end(), eroded.begin(), eroded.end());
+    batch.visibility.insert(batch.visibility.end(), s.visibility.begin(), s.visibility.end());
+    for (double value : s.light) batch.light.push_back(static_cast<float>(value));
+  }
+  return batch;
+}
+
+void DatasetReader::produce() {
+  for (int64_t batch_number = 0;; ++batch_number) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [this] {
+        return stopping_ || ready_.size() < static_cast<size_t>(std::max(options_.prefetch, 1));
+      });
+      if (stopping_) return;
+    }
+    HostBatch batch;
+    try {
+      batch = load_batch(batch_number);
+    } catch (...) {
+      batch.error = std::current_exception();
+    }
+    const bool failed = batch.error != nullptr;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ready_.push_back(std::move(batch));
+    }
+    changed_.notify_all();
+    if (failed) return;  // the consumer rethrows; nothing sensible follows
+  }
+}
+
+SyntheticBatch DatasetReader::next() {
+  HostBatch host;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return !ready_.empty(); });
+    host = std::move(ready_.front());
+    if (!host.error) ready_.pop_front();
+  }
+  changed_.notify_all();
+  if (host.error) std::rethrow_exception(host.error);
+  const int64_t n = options_.batch_size, h = height_, w = width_;
+  SyntheticBatch batch;
+  batch.image = Tensor::from_host(backend_, Shape{n, 3, h, w}, host.image);
+  batch.albedo = Tensor::from_host(backend_, Shape{n, 3, h, w}, host.albedo);
+  batch.normal = Tensor::from_host(backend_, Shape{n, 3, h, w}, host.normal);
+  batch.mask = Tensor::from_host(backend_, Shape{n, 1, h, w}, host.mask);
+  batch.visibility = Tensor::from_host(backend_, Shape{n, 9, h, w}, host.visibility);
+  batch.light = Tensor::from_host(backend_, Shape{n, 27}, host.light);
+  batch.files = std::move(host.files);
+  batch.epoch = host.epoch;
+  return batch;
+}
+
+}  // namespace facetool

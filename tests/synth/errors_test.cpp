@@ -1,0 +1,90 @@
+// Missing or broken inputs give facetool::Error messages that name the file and what to do.
+#include <filesystem>
+
+#include "core/synth/face_model.h"
+#include "core/synth/light_source.h"
+#include "core/util/error.h"
+#include "synth_test_support.h"
+
+namespace facetool {
+namespace {
+namespace fs = std::filesystem;
+
+// Runs `action`, expecting facetool::Error whose message contains every one of `parts`.
+template <typename Action>
+void expect_error(Action action, std::initializer_list<std::string> parts) {
+  try {
+    action();
+    ADD_FAILURE() << "no error thrown";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    for (const std::string& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+  }
+}
+
+const char kCube[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+TEST(SynthErrors, MissingFaceModelSaysWhereToGetIt) {
+  testing::ScratchDir dir("synth-errors-model");
+  expect_error([&] { FaceModel::load(dir.file("nowhere")); },
+               {"nowhere", "does not exist", "ICT-FaceKit", "--face-model"});
+  expect_error([&] { FaceModel::load(dir.path()); },
+               {"generic_neutral_mesh.obj", "github.com/ICT-VGL/ICT-FaceKit"});
+}
+
+TEST(SynthErrors, BrokenFaceModelFilesAreNamed) {
+  testing::ScratchDir dir("synth-errors-broken");
+  testing::write_text(dir.file("generic_neutral_mesh.obj"), "v 0 0 0\nv 1 0 zero\n");
+  expect_error([&] { FaceModel::load(dir.path()); },
+               {"generic_neutral_mesh.obj", "line 2", "expected a number"});
+  testing::write_text(dir.file("generic_neutral_mesh.obj"), kCube);
+  testing::write_text(dir.file("identity000.obj"), "v 0 0 0\nv 1 0 0\n");
+  expect_error([&] { FaceModel::load(dir.path()); },
+               {"identity000.obj", "2 vertices", "neutral mesh has 4"});
+  testing::write_text(dir.file("identity000.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n");
+  testing::write_text(dir.file("jawOpen.obj"), "v 0 0 0\nf 1 2 3\n");
+  expect_error([&] { FaceModel::load(dir.path()); }, {"jawOpen.obj", "vertex index 2"});
+  fs::remove(dir.file("jawOpen.obj"));
+  // A shape stored the upstream way (full OBJ with texture coordinates and faces) loads the
+  // same as a vertex-only one.
+  testing::write_text(dir.file("identity001.obj"),
+                      "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                      "f 1/1 2/2 3/3 4/4\n");
+  const FaceModel model = FaceModel::load(dir.path());
+  EXPECT_EQ(model.identity_count(), 2);
+  EXPECT_EQ(model.neutral().triangles.size(), 2u);
+  ShapeWeights weights;
+  weights.identity = {0.0f, 0.5f};
+  const FaceMesh moved = model.build(weights);
+  for (const Vec3f& p : moved.positions) EXPECT_FLOAT_EQ(p.z, 0.5f);
+}
+
+TEST(SynthErrors, BrokenLightFilesAreNamed) {
+  testing::ScratchDir dir("synth-errors-lights");
+  expect_error([&] { load_light_sources({dir.file("missing")}); }, {"missing", "--lights"});
+  expect_error([&] { load_light_sources({dir.path()}); }, {"no light files", "blender-data"});
+  testing::write_text(dir.file("short.txt"), "1 2 3\n4 5\n");
+  expect_error([&] { load_light_sources({dir.path()}); }, {"short.txt", "5 numbers", "27"});
+  fs::remove(dir.file("short.txt"));
+  testing::write_text(dir.file("word.txt"), "1 2 three\n");
+  expect_error([&] { load_light_sources({dir.path()}); }, {"word.txt", "three"});
+  fs::remove(dir.file("word.txt"));
+  testing::write_text(dir.file("broken.hdr"), "#?RADIANCE\nthis is not a picture");
+  expect_error([&] { load_light_sources({dir.path()}); }, {"broken.hdr"});
+  fs::remove(dir.file("broken.hdr"));
+  std::string black;
+  for (int k = 0; k < 27; ++k) black += "0 ";
+  testing::write_text(dir.file("black.txt"), black);
+  expect_error([&] { load_light_sources({dir.path()}); }, {"black.txt", "black"});
+}
+
+TEST(SynthErrors, UserMeshWithoutFaces) {
+  testing::ScratchDir dir("synth-errors-mesh");
+  testing::write_text(dir.file("points.obj"), "v 0 0 0\nv 1 0 0\n");
+  expect_error([&] { load_user_mesh(dir.file("points.obj")); }, {"points.obj", "no faces"});
+  expect_error([&] { load_user_mesh(dir.file("absent.obj")); }, {"absent.obj", "cannot open"});
+}
+
+}  // namespace
+}  // namespace facetool
