@@ -16,6 +16,19 @@ bool is_kept_part(FacePart part) {
   }
 }
 
+bool is_face_region_part(FacePart part) {
+  switch (part) {
+    case FacePart::kFace:
+    case FacePart::kEyeSocket:
+    case FacePart::kSclera:
+    case FacePart::kIris:
+    case FacePart::kOther:
+      return true;
+    default:
+      return false;
+  }
+}
+
 const char* face_part_name(FacePart part) {
   switch (part) {
     case FacePart::kFace: return "face";

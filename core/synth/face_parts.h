@@ -24,6 +24,11 @@ enum class FacePart : uint8_t {
 
 // True for the parts the generator renders and casts visibility rays against.
 bool is_kept_part(FacePart part);
+// True for the parts inside the face region, the sample's mask: kFace (the ICT face region,
+// M_Face = exactly the polygons whose vertices are all < 9409, plus the inner lip rim), the eye
+// sockets and eyeballs seen through the eye openings, and kOther (a user's own mesh is all face).
+// False for kHeadNeck (back of the head, ears, neck) and the dropped parts.
+bool is_face_region_part(FacePart part);
 // "face", "head_neck", ... for messages and documentation.
 const char* face_part_name(FacePart part);
 

@@ -9,6 +9,7 @@ GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
   g.width = camera.width;
   g.height = camera.height;
   const size_t count = static_cast<size_t>(g.width) * g.height;
+  g.head.assign(count, 0);
   g.mask.assign(count, 0);
   g.position.assign(count, Vec3f{});
   g.normal.assign(count, Vec3f{});
@@ -26,7 +27,8 @@ GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
       if (dot(cross(b - a, c - a), direction) >= 0.0f) continue;  // back face
       const float w0 = 1.0f - hit.u - hit.v, w1 = hit.u, w2 = hit.v;
       const size_t p = static_cast<size_t>(y) * g.width + x;
-      g.mask[p] = 1;
+      g.head[p] = 1;
+      g.mask[p] = is_face_region_part(mesh.triangle_parts[hit.triangle]) ? 1 : 0;
       g.position[p] = a * w0 + b * w1 + c * w2;
       g.normal[p] = normalized(normals[t[0]] * w0 + normals[t[1]] * w1 + normals[t[2]] * w2);
       g.depth[p] = eye.z - g.position[p].z;
@@ -55,6 +57,21 @@ std::vector<T> erode(const std::vector<T>& mask, int width, int height) {
   return out;
 }
 }  // namespace
+
+std::vector<uint8_t> dilate_mask(const std::vector<uint8_t>& mask, int width, int height) {
+  std::vector<uint8_t> out(mask.size(), 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      if (!mask[static_cast<size_t>(y) * width + x]) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx >= 0 && yy >= 0 && xx < width && yy < height)
+            out[static_cast<size_t>(yy) * width + xx] = 1;
+        }
+    }
+  return out;
+}
 
 std::vector<uint8_t> erode_mask(const std::vector<uint8_t>& mask, int width, int height) {
   return erode(mask, width, height);

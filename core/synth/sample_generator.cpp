@@ -62,11 +62,12 @@ std::string describe_shape(const FaceModel& model, const ShapeWeights& weights) 
   return text + "]";
 }
 
-// Renders the masked pixels (gathered into compact planes) and scatters the result into
-// `image`, leaving other pixels alone. Returns the largest channel value rendered.
+// Renders `pixels` (albedo and normal from `s`, visibility from `visibility_planes`; gathered
+// into compact planes) and scatters the result into `image`, leaving other pixels alone.
+// Returns the largest channel value rendered.
 float render_masked(const ComponentRenderer& renderer, const SynthSample& s,
-                    const std::vector<int>& pixels, const sh::RgbLight& light,
-                    std::vector<float>& image) {
+                    const std::vector<float>& visibility_planes, const std::vector<int>& pixels,
+                    const sh::RgbLight& light, std::vector<float>& image) {
   const int n = static_cast<int>(pixels.size());
   if (n == 0) return 0.0f;
   const size_t plane = s.plane();
@@ -76,7 +77,7 @@ float render_masked(const ComponentRenderer& renderer, const SynthSample& s,
       albedo[c * n + k] = s.albedo[c * plane + pixels[k]];
       normal[c * n + k] = s.normal[c * plane + pixels[k]];
     }
-    for (int i = 0; i < 9; ++i) visibility[i * n + k] = s.visibility[i * plane + pixels[k]];
+    for (int i = 0; i < 9; ++i) visibility[i * n + k] = visibility_planes[i * plane + pixels[k]];
   }
   renderer.render(n, albedo.data(), normal.data(), visibility.data(), light, out.data());
   float peak = 0.0f;
@@ -153,34 +154,47 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   s.mask.assign(plane, 0.0f);
   s.visibility.assign(9 * plane, 0.0f);
   s.depth.assign(plane, 0.0f);
-  std::vector<int> masked;
   s.seconds_geometry = since(start);
   const double visibility_start = thread_cpu_seconds();
-  // Masked pixels in 4x4 tiles, so that each group of 16 holds neighbours.
+  // Visibility domain: the face mask dilated by one pixel (covers the eroded mask the losses use
+  // and a margin), restricted to head pixels.
+  std::vector<uint8_t> domain =
+      settings_.visibility_on_whole_head ? g.head : dilate_mask(g.mask, s.width, s.height);
+  for (size_t p = 0; p < plane; ++p) domain[p] = domain[p] && g.head[p];
+  // Domain pixels in 4x4 tiles, so that each group of 16 holds neighbours.
+  std::vector<int> cast_pixels;
+  cast_pixels.reserve(plane);
   for (int ty = 0; ty < s.height; ty += 4)
     for (int tx = 0; tx < s.width; tx += 4)
       for (int y = ty; y < std::min(ty + 4, s.height); ++y)
         for (int x = tx; x < std::min(tx + 4, s.width); ++x) {
           const size_t p = static_cast<size_t>(y) * s.width + x;
-          if (g.mask[p]) masked.push_back(static_cast<int>(p));
+          if (domain[p]) cast_pixels.push_back(static_cast<int>(p));
         }
-  for (size_t first = 0; first < masked.size(); first += 16) {
-    const int count = static_cast<int>(std::min<size_t>(16, masked.size() - first));
+  for (size_t first = 0; first < cast_pixels.size(); first += 16) {
+    const int count = static_cast<int>(std::min<size_t>(16, cast_pixels.size() - first));
     Vec3f points[16], normals_here[16];
     float visibility[16 * 9];
     for (int k = 0; k < count; ++k) {
-      points[k] = g.position[masked[first + k]];
-      normals_here[k] = g.normal[masked[first + k]];
+      points[k] = g.position[cast_pixels[first + k]];
+      normals_here[k] = g.normal[cast_pixels[first + k]];
     }
     s.rays_cast += visibility_.integrate_group(scene, points, normals_here, count,
                                                settings_.ray_offset, visibility);
     for (int k = 0; k < count; ++k)
-      for (int i = 0; i < 9; ++i) s.visibility[i * plane + masked[first + k]] = visibility[9 * k + i];
+      for (int i = 0; i < 9; ++i)
+        s.visibility[i * plane + cast_pixels[first + k]] = visibility[9 * k + i];
   }
   s.seconds_visibility = since(visibility_start);
   const double shading_start = thread_cpu_seconds();
-  for (int p : masked) {
-    s.mask[p] = 1.0f;
+  std::vector<int> head, face;
+  for (size_t p = 0; p < plane; ++p) {
+    if (!g.head[p]) continue;
+    head.push_back(static_cast<int>(p));
+    if (g.mask[p]) {
+      face.push_back(static_cast<int>(p));
+      s.mask[p] = 1.0f;
+    }
     s.depth[p] = g.depth[p];
     const Vec3f albedo = albedo_model_.evaluate(albedo_params, g.part[p], g.reference[p]);
     for (int c = 0; c < 3; ++c) {
@@ -188,23 +202,32 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
       s.normal[c * plane + p] = g.normal[p][c];
     }
   }
+  // The image of head pixels outside the visibility domain (ears, neck, back of the head) uses
+  // the open hemisphere: no labels there, only a plausible photo around the face.
+  std::vector<float> image_visibility = s.visibility;
+  for (int p : head)
+    if (!domain[p]) {
+      float open[9];
+      visibility_.open_hemisphere(g.normal[p], open);
+      for (int i = 0; i < 9; ++i) image_visibility[i * plane + p] = open[i];
+    }
 
-  // Light: scale so the brightest face pixel is the drawn target, then render for real.
+  // Light: scale so the brightest face-region pixel is the drawn target, then render the head.
   Random light_random = stream(kLight);
   const SampledLight light = sample_light(light_random, lights_, settings_.light);
   const LightSource& source = lights_[light.source];
   s.light_source = source.name;
-  const float peak = render_masked(*renderer_, s, masked, light.light, s.image);
+  const float peak = render_masked(*renderer_, s, image_visibility, face, light.light, s.image);
   const double scale = peak > 0.0f ? light.target_peak / peak : 1.0;
   s.light = scale_light(light.light, scale);
-  render_masked(*renderer_, s, masked, s.light, s.image);
+  render_masked(*renderer_, s, image_visibility, head, s.light, s.image);
 
-  // Background outside the mask.
+  // Background outside the head.
   Random background_random = stream(kBackground);
   std::vector<float> background;
   backgrounds_.fill(background_random, camera, source, light, scale, background);
   for (size_t p = 0; p < plane; ++p)
-    if (!g.mask[p])
+    if (!g.head[p])
       for (int c = 0; c < 3; ++c) s.image[c * plane + p] = background[c * plane + p];
   s.seconds_shading = since(shading_start);
   return s;

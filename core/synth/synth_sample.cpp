@@ -9,7 +9,7 @@
 
 namespace facetool {
 
-const char* const kSynthGeneratorVersion = "facetool-synth-1";
+const char* const kSynthGeneratorVersion = "facetool-synth-2";
 
 namespace {
 

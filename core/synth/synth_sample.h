@@ -17,13 +17,15 @@ extern const char* const kSynthGeneratorVersion;
 
 struct SynthSample {
   int width = 0, height = 0;
-  // Planar [channels][height * width], rows top to bottom; zero outside the mask except image.
-  std::vector<float> image;       // 3: linear RGB, face rendered + background
+  // Planar [channels][height * width], rows top to bottom. Albedo, normal and depth cover the
+  // whole head (0 off it); visibility is defined only inside the mask dilated by one pixel (0
+  // outside it); the labels are meant for the mask (eroded for the losses).
+  std::vector<float> image;       // 3: linear RGB, head rendered + background
   std::vector<float> albedo;      // 3: linear RGB in [0, 1]
   std::vector<float> normal;      // 3: unit XYZ, world = camera axes (+X right, +Y up, +Z to camera)
-  std::vector<float> mask;        // 1: 1 on the head, 0 elsewhere (erode for the losses)
+  std::vector<float> mask;        // 1: 1 in the face region, 0 elsewhere (erode for the losses)
   std::vector<float> visibility;  // 9: SH coefficients of the visibility
-  std::vector<float> depth;       // 1: distance along -Z from the camera, 0 outside
+  std::vector<float> depth;       // 1: distance along -Z from the camera, 0 off the head
   sh::RgbLight light{};           // 27, channel-major R0..R8 G0..G8 B0..B8, final scale
   HeadPose pose;
   double fov_deg = 0;

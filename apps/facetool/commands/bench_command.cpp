@@ -1,10 +1,11 @@
-// `facetool bench <target>`: performance measurements (`ops`: the op table; `network`: the paper's network).
+// `facetool bench <target>`: performance measurements: `ops` (the op table), `network`, `render`.
 #include <functional>
 #include <iostream>
 #include <map>
 
 #include "apps/facetool/bench/network_benchmarks.h"
 #include "apps/facetool/bench/op_benchmarks.h"
+#include "apps/facetool/bench/render_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
@@ -43,11 +44,21 @@ void bench_network(CommandContext& context, const BenchSettings& settings) {
   run_network_benchmarks(*net, backend, net->forward_flops_per_image() / 1e9, options, std::cout);
 }
 
+void bench_render(CommandContext& context, const BenchSettings& settings) {
+  Backend& backend = get_backend(context.backend);
+  PluginLoader& loader = context.plugins();
+  auto renderer = std::dynamic_pointer_cast<RendererPlugin>(
+      loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, "sh_renderer")));
+  check(renderer != nullptr, "plugin 'sh_renderer' does not implement the renderer interface");
+  const int batch = settings.quick ? 2 : settings.train_batch > 0 ? settings.train_batch : 20;
+  run_render_benchmarks(*renderer, backend, batch, settings.input_size, settings.repeats, std::cout);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
-      targets = {{"ops", bench_ops}, {"network", bench_network}};
+      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render}};
   return targets;
 }
 
@@ -66,8 +77,8 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "timed repetitions per measurement (the median is reported)")
       ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
       ("width", po::value<int>()->default_value(128), "network: width (the paper: 128)")
-      ("input-size", po::value<int>()->default_value(128), "network: input size (the paper: 128)")
-      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip)");
+      ("input-size", po::value<int>()->default_value(128), "network, render: image size (the paper: 128)")
+      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
@@ -105,7 +116,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance: bench ops (the paper's layer shapes), bench network",
+    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render",
      run_bench}};
 
 }  // namespace
