@@ -31,10 +31,7 @@ void bench_ops(CommandContext& context, const BenchSettings& settings) {
 
 void bench_network(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
-  PluginLoader& loader = context.plugins();
-  auto net = std::dynamic_pointer_cast<NetworkPlugin>(
-      loader.create(loader.find(FACETOOL_PLUGIN_NETWORK, "paper_network")));
-  check(net != nullptr, "plugin 'paper_network' does not implement the network interface");
+  auto net = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, "paper_network");
   net->build(backend, NetworkConfig{settings.width, settings.input_size});
   net->init_random(1);
   NetworkBenchOptions options;
@@ -46,10 +43,7 @@ void bench_network(CommandContext& context, const BenchSettings& settings) {
 
 void bench_render(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
-  PluginLoader& loader = context.plugins();
-  auto renderer = std::dynamic_pointer_cast<RendererPlugin>(
-      loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, "sh_renderer")));
-  check(renderer != nullptr, "plugin 'sh_renderer' does not implement the renderer interface");
+  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   const int batch = settings.quick ? 2 : settings.train_batch > 0 ? settings.train_batch : 20;
   run_render_benchmarks(*renderer, backend, batch, settings.input_size, settings.repeats, std::cout);
 }

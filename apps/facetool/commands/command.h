@@ -32,6 +32,18 @@ class CommandContext {
   std::unique_ptr<PluginLoader> plugins_;
 };
 
+// Creates plugin `name` of `kind` (loading the plugins on first use) and checks that its object
+// implements `Interface` (NetworkPlugin, RendererPlugin, ...).
+template <typename Interface>
+std::shared_ptr<Interface> create_plugin(CommandContext& context, uint32_t kind,
+                                         const std::string& name) {
+  PluginLoader& loader = context.plugins();
+  auto plugin = std::dynamic_pointer_cast<Interface>(loader.create(loader.find(kind, name)));
+  check(plugin != nullptr, "plugin '", name, "' does not implement the ", plugin_kind_name(kind),
+        " interface");
+  return plugin;
+}
+
 // A subcommand: `run` receives the arguments after the command name, common options removed,
 // and returns the process exit code. Errors are thrown (facetool::Error, UsageError, or
 // boost::program_options errors) and reported by main().

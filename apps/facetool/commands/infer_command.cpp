@@ -47,22 +47,6 @@ std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
   return stems;
 }
 
-std::shared_ptr<NetworkPlugin> make_network(CommandContext& context, const std::string& name) {
-  PluginLoader& loader = context.plugins();
-  auto plugin = std::dynamic_pointer_cast<NetworkPlugin>(
-      loader.create(loader.find(FACETOOL_PLUGIN_NETWORK, name)));
-  check(plugin != nullptr, "plugin '", name, "' does not implement the network interface");
-  return plugin;
-}
-
-std::shared_ptr<RendererPlugin> make_renderer(CommandContext& context, const std::string& name) {
-  PluginLoader& loader = context.plugins();
-  auto plugin = std::dynamic_pointer_cast<RendererPlugin>(
-      loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, name)));
-  check(plugin != nullptr, "plugin '", name, "' does not implement the renderer interface");
-  return plugin;
-}
-
 int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
@@ -118,16 +102,17 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     if (architecture.empty()) architecture = header.architecture;
     check(architecture == header.architecture, "weights '", path, "' are for network '",
           header.architecture, "' but --network asks for '", architecture, "'");
-    network = make_network(context, architecture);
+    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
     network->build(backend, header.config);
     load_network_weights(*network, weights, path);
   } else {
     if (architecture.empty()) architecture = "paper_network";
-    network = make_network(context, architecture);
+    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
     network->build(backend, NetworkConfig{values["width"].as<int>(), values["input-size"].as<int>()});
     network->init_random(values["seed"].as<uint64_t>());
   }
-  auto renderer = make_renderer(context, values["renderer"].as<std::string>());
+  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
+                                                 values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
 

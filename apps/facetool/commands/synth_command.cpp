@@ -113,10 +113,7 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
   if (renderer_name == "reference") {
     renderer = make_reference_renderer();
   } else {
-    PluginLoader& loader = context.plugins();
-    auto plugin = std::dynamic_pointer_cast<RendererPlugin>(
-        loader.create(loader.find(FACETOOL_PLUGIN_RENDERER, renderer_name)));
-    check(plugin != nullptr, "plugin '", renderer_name, "' does not implement the renderer interface");
+    auto plugin = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, renderer_name);
     renderer = make_plugin_renderer(plugin, get_backend(context.backend));
   }
   SampleGenerator generator(faces, load_light_sources(lights), BackgroundSource(backgrounds),
