@@ -1,8 +1,8 @@
 // sh_render.cl: per-pixel SH triple-product rendering, its backward pass and light-gradient sums.
 //
 // Written once for both targets: built as OpenCL C 1.2 (the __kernel wrappers at the end) and
-// #included as C++ by plugins/sh_renderer/sh_render_cpu.cpp, whose CPU entries call the same
-// *_item functions, so the two backends share every line of arithmetic.
+// #included as C++ by plugins/sh_renderer/sh_render_cpu.cpp, whose CPU entries share the helper
+// functions and run the same per-pixel formulas on blocks of pixels (vectorised over pixels).
 //
 // Layouts (P = H * W pixels per image, item = n * P + p):
 //   albedo, normal, image, shading [N,3,P]; visibility [N,9,P]; light [N,27] channel-major;

@@ -8,6 +8,7 @@ packages=(
   libdnnl-dev libopenblas-dev
   libembree-dev libopenimageio-dev openimageio-tools
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
+  python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
 )
 
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

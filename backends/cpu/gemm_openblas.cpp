@@ -12,14 +12,6 @@ std::string openblas_core_name() {
   return name ? name : "unknown";
 }
 
-bool openblas_core_uses_avx512() {
-  const std::string core = openblas_core_name();
-  for (const char* avx512_core : {"SkylakeX", "skylakex", "Cooperlake", "cooperlake",
-                                  "SapphireRapids", "sapphirerapids"})
-    if (core == avx512_core) return true;
-  return false;
-}
-
 void openblas_sgemm(bool trans_a, bool trans_b, int64_t m, int64_t n, int64_t k, float alpha,
                     const float* a, int64_t lda, const float* b, int64_t ldb, float beta,
                     float* c, int64_t ldc) {

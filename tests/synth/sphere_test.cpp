@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_eval.h"
+#include "core/io/image_io.h"
 #include "core/synth/sample_generator.h"
 #include "synth_test_support.h"
 
@@ -16,7 +18,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Sphere generator: no pose, fixed field of view, the light as given (no rotation or tint).
-SampleGenerator make_sphere_generator(const std::string& light_file, int size) {
+SampleGenerator make_sphere_generator(const std::string& light_file, int size,
+                                      const std::string& background_folder = "") {
   SynthSettings settings;
   settings.camera.width = settings.camera.height = size;
   settings.camera.min_fov_deg = settings.camera.max_fov_deg = 22.5;
@@ -26,8 +29,8 @@ SampleGenerator make_sphere_generator(const std::string& light_file, int size) {
   settings.light.min_peak = settings.light.max_peak = 0.9;
   FaceSource faces;
   faces.mesh = std::make_shared<const FaceMesh>(testing::make_sphere(96, 192));
-  return SampleGenerator(faces, load_light_sources({light_file}), BackgroundSource(),
-                         make_reference_renderer(), settings);
+  return SampleGenerator(faces, load_light_sources({light_file}),
+                         BackgroundSource(background_folder), make_reference_renderer(), settings);
 }
 
 // Where the camera ray through pixel (x, y) meets the exact unit sphere; false on a miss.
@@ -152,6 +155,51 @@ TEST_F(SphereUnderKnownLight, BackgroundShowsTheShLightFromTheCamera) {
   const auto radiance = sh::light_eval(sample.light, {d.x, d.y, d.z});
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(sample.image[c * plane + p], std::clamp(radiance[c], 0.0, 1.0), 1e-5);
+}
+
+// --backgrounds: pixels outside the head come from the folder's images (8-bit files decoded
+// from sRGB), one image drawn per sample; the head itself is rendered as before.
+TEST_F(SphereUnderKnownLight, BackgroundFolderFillsEverythingOutsideTheHead) {
+  const float colours[2][3] = {{0.8f, 0.2f, 0.1f}, {0.1f, 0.3f, 0.9f}};
+  std::filesystem::create_directories(dir.file("backgrounds"));
+  for (int i = 0; i < 2; ++i) {
+    RgbImage image;
+    image.width = 50;
+    image.height = 40;
+    for (int k = 0; k < image.width * image.height; ++k)
+      image.pixels.insert(image.pixels.end(), colours[i], colours[i] + 3);
+    write_png_atomically(dir.file("backgrounds/plain" + std::to_string(i) + ".png"), image);
+  }
+  SampleGenerator with_backgrounds =
+      make_sphere_generator(dir.file("key.txt"), size, dir.file("backgrounds"));
+  bool seen[2] = {false, false};
+  for (int index = 0; index < 8; ++index) {
+    const SynthSample s = with_backgrounds.generate(5, index);
+    const size_t plane = s.plane();
+    // The colour of the corner pixel (outside the sphere) picks the image; 8-bit rounding.
+    int which = -1;
+    for (int i = 0; i < 2; ++i)
+      if (std::abs(s.image[0] - colours[i][0]) < 6e-3f) which = i;
+    ASSERT_GE(which, 0) << "sample " << index << ": corner pixel " << s.image[0]
+                        << " is neither background image";
+    seen[which] = true;
+    int outside = 0;
+    for (size_t p = 0; p < plane; ++p) {
+      if (s.depth[p] > 0.0f) {
+        EXPECT_GT(std::abs(s.image[p] - colours[which][0]) + std::abs(s.image[2 * plane + p] -
+                                                                      colours[which][2]),
+                  1e-3f)
+            << "head pixel " << p << " shows the background";
+        continue;
+      }
+      ++outside;
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(s.image[c * plane + p], colours[which][c], 6e-3f)
+            << "sample " << index << " pixel " << p << " channel " << c;
+    }
+    EXPECT_GT(outside, static_cast<int>(plane) / 4);
+  }
+  EXPECT_TRUE(seen[0] && seen[1]) << "8 samples drew only one of the two background images";
 }
 
 }  // namespace
