@@ -23,6 +23,31 @@ __kernel void im2col(__global const float* x, __global float* col, int n0, int G
   col[(r * G + g) * Ho * Wo + oy * Wo + ox] = v;
 }
 
+// The transposed column matrix colT[j, r] = col[r, j] ([G*Ho*Wo, Ci*K*K]) for the weight
+// gradient dW = dY colT, which CLBlast then reads without a transposing copy of its own.
+// 2-D range (Ci*K*K, G*Ho*Wo): consecutive work-items write consecutive entries of a row (a
+// 16x16 local-memory tile transpose, tried on PoCL, ran at half the speed).
+__kernel void im2col_transposed(__global const float* x, __global float* col_t, int n0, int G,
+                                int Ci, int H, int W, int K, int stride, int pad, int Ho,
+                                int Wo) {
+  const int r = get_global_id(0);
+  const int j = get_global_id(1);
+  const int rows = Ci * K * K;
+  const int plane_out = Ho * Wo;
+  const int g = j / plane_out;
+  const int pixel = j - g * plane_out;
+  const int oy = pixel / Wo;
+  const int ox = pixel - oy * Wo;
+  const int kx = r % K;
+  const int ky = (r / K) % K;
+  const int ci = r / (K * K);
+  const int iy = oy * stride - pad + ky;
+  const int ix = ox * stride - pad + kx;
+  float v = 0.0f;
+  if (iy >= 0 && iy < H && ix >= 0 && ix < W) v = x[(((n0 + g) * Ci + ci) * H + iy) * W + ix];
+  col_t[j * rows + r] = v;
+}
+
 // dx[n0 + g, ci, iy, ix] (+)= sum of the col entries that im2col copied from that pixel.
 // 3-D range (W, G*H, Ci).
 __kernel void col2im(__global const float* col, __global float* dx, int n0, int G, int Ci, int H,

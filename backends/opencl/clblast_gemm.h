@@ -20,7 +20,8 @@ using ScratchAllocator = std::function<ScratchBuffer(size_t bytes)>;
 
 // Applies the tuning-table entry for this device's type to CLBlast (once per device). CPU
 // devices (PoCL) get parameters measured on this project's machines; other devices keep
-// CLBlast's own database. FACETOOL_CLBLAST_DEFAULTS=1 skips the overrides.
+// CLBlast's own database. FACETOOL_CLBLAST_DEFAULTS=1 skips the overrides;
+// FACETOOL_CLBLAST_XGEMM="NAME=VALUE,..." adds Xgemm parameters on any device (checked once).
 // Returns a short description of what was applied.
 std::string apply_clblast_tuning(const Context& context);
 
@@ -37,6 +38,9 @@ class Gemm {
   const std::string& tuning() const { return tuning_; }
 
  private:
+  // Runs two GEMMs against a host reference; fails when the tuning computes wrong results.
+  void self_check();
+
   const Context& context_;
   ScratchAllocator scratch_;
   std::string tuning_;

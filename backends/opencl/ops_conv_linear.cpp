@@ -47,6 +47,13 @@ void im2col(OpenclBackend& be, const Tensor& x, const Tensor& col, const ConvGeo
              g.w, g.k, g.stride, g.pad, g.ho, g.wo);
 }
 
+// colT [count*Ho*Wo, Ci*K*K]: the transpose of im2col's matrix, for the weight gradient.
+void im2col_transposed(OpenclBackend& be, const Tensor& x, const Tensor& col_t,
+                       const ConvGeometry& g, int64_t n0, int64_t count) {
+  run_nd(be, kConv, "im2col_transposed", {g.rows(), count * g.plane_out()}, x, col_t, n0, count,
+         g.ci, g.h, g.w, g.k, g.stride, g.pad, g.ho, g.wo);
+}
+
 }  // namespace
 
 void OpenclBackend::conv2d(const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& y,
@@ -111,19 +118,18 @@ void OpenclBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tens
       dy_offset = 0;
     }
     if (dw) {
-      cl_mem b = nullptr;
-      size_t b_offset = 0;
-      if (col_from_x) {
-        b = device_memory(x);
-        b_offset = static_cast<size_t>(n0 * g.ci * g.h * g.w);
-      } else {
-        im2col(*this, x, col, g, n0, count);
-        b = device_memory(col);
-      }
-      // dW[Co, rows] (+)= dY[Co, cols] * col[rows, cols]^T
       const float beta = (n0 == 0 && !accumulate) ? 0.0f : 1.0f;
-      gemm_->run(false, true, g.co, g.rows(), cols, 1.0f, dy_mem, dy_offset, cols, b, b_offset,
-                 cols, beta, device_memory(*dw), 0, g.rows());
+      if (col_from_x) {
+        // dW[Co, rows] (+)= dY[Co, cols] * x[rows, cols]^T
+        gemm_->run(false, true, g.co, g.rows(), cols, 1.0f, dy_mem, dy_offset, cols,
+                   device_memory(x), static_cast<size_t>(n0 * g.ci * g.h * g.w), cols, beta,
+                   device_memory(*dw), 0, g.rows());
+      } else {
+        // dW[Co, rows] (+)= dY[Co, cols] * colT[cols, rows]
+        im2col_transposed(*this, x, col, g, n0, count);
+        gemm_->run(false, false, g.co, g.rows(), cols, 1.0f, dy_mem, dy_offset, cols,
+                   device_memory(col), 0, g.rows(), beta, device_memory(*dw), 0, g.rows());
+      }
     }
     if (dx) {
       // dcol[rows, cols] = W[Co, rows]^T * dY[Co, cols]

@@ -27,9 +27,20 @@ std::string lower_extension(const fs::path& path) {
   return ext;
 }
 
+// Text files that accompany light collections (blender-data's world folder holds license.txt).
+bool is_note_file(const fs::path& path) {
+  std::string stem = path.stem().string();
+  std::transform(stem.begin(), stem.end(), stem.begin(), ::tolower);
+  for (const char* note : {"license", "licence", "readme", "copying", "notice", "credits"})
+    if (stem.rfind(note, 0) == 0) return true;
+  return false;
+}
+
+// Files a light folder contributes: environment maps and SH light text files, not notes.
 bool is_light_file(const fs::path& path) {
   const std::string ext = lower_extension(path);
-  return ext == ".hdr" || ext == ".exr" || ext == ".txt";
+  if (ext == ".txt") return !is_note_file(path);
+  return ext == ".hdr" || ext == ".exr";
 }
 
 LightSource load_light_file(const fs::path& path) {

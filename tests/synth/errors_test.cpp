@@ -79,6 +79,21 @@ TEST(SynthErrors, BrokenLightFilesAreNamed) {
   expect_error([&] { load_light_sources({dir.path()}); }, {"black.txt", "black"});
 }
 
+// A light folder's licence and readme notes are not lights (blender-data ships license.txt);
+// a note passed explicitly as a file is still read, and fails as a light would.
+TEST(SynthErrors, LightFoldersSkipLicenceAndReadmeNotes) {
+  testing::ScratchDir dir("synth-light-notes");
+  std::string grey;
+  for (int k = 0; k < 9; ++k) grey += k == 0 ? "1 1 1\n" : "0 0 0\n";
+  testing::write_text(dir.file("grey.txt"), grey);
+  testing::write_text(dir.file("license.txt"), "All files are CC0.\n");
+  testing::write_text(dir.file("README.txt"), "Lights for testing.\n");
+  const std::vector<LightSource> sources = load_light_sources({dir.path()});
+  ASSERT_EQ(sources.size(), 1u);
+  EXPECT_EQ(sources[0].name, "grey.txt");
+  expect_error([&] { load_light_sources({dir.file("license.txt")}); }, {"license.txt", "All"});
+}
+
 TEST(SynthErrors, UserMeshWithoutFaces) {
   testing::ScratchDir dir("synth-errors-mesh");
   testing::write_text(dir.file("points.obj"), "v 0 0 0\nv 1 0 0\n");
