@@ -8,6 +8,7 @@ packages=(
   libdnnl-dev libopenblas-dev
   libembree-dev libopenimageio-dev openimageio-tools
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
+  blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
 )
 
