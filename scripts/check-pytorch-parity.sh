@@ -2,7 +2,7 @@
 # Cross-checks facetool's paper_network against an independent PyTorch version of it: random
 # weights written by PyTorch, loaded by `facetool infer`, outputs compared (needs python3-torch).
 # Usage: check-pytorch-parity.sh [BACKEND]; FACETOOL=path/to/facetool overrides build/bin/facetool.
-# Exits 77 (a skip for CTest) when no python3 has torch and numpy.
+# Exits 77 (a skip for CTest) when no python3 has torch and numpy, or the backend is unavailable.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 backend="${1:-cpu}"
@@ -16,6 +16,10 @@ for candidate in "${PYTHON:-}" python3 /usr/bin/python3; do
 done
 if [ -z "$python" ]; then
   echo "check-pytorch-parity: no python3 with torch and numpy (Debian: apt-get install python3-torch; or set PYTHON)" >&2
+  exit 77
+fi
+if ! "$facetool" --backend "$backend" backends > /dev/null 2>&1; then
+  echo "check-pytorch-parity: backend '$backend' is not available here ($facetool backends says why)" >&2
   exit 77
 fi
 work="$(mktemp -d)"
