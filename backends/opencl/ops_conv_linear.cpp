@@ -30,10 +30,10 @@ struct ConvGeometry {
     pad = p.effective_pad(k);
     ho = (h + 2 * pad - k) / stride + 1;
     wo = (this->w + 2 * pad - k) / stride + 1;
-    // Wide GEMMs run faster on PoCL (3x3 128->128 at 64x64: 4096 columns 39 GFLOP/s, 16384
-    // columns 65), within a 64 Mi-float (256 MiB) column buffer. A 1x1 convolution reads x in
-    // place when one image is wide enough, which beats packing several images.
-    const int64_t wanted_columns = pointwise() ? 4096 : 16384;
+    // GEMMs at least 4096 columns wide, within a 64 Mi-float (256 MiB) column buffer. (With
+    // CLBlast called in column-major order, 4,096 to 16,384 columns ran alike on PoCL; the
+    // smallest chunk needs the least memory and writes y directly when one image suffices.)
+    const int64_t wanted_columns = 4096;
     const int64_t max_col_floats = int64_t(64) << 20;
     chunk = std::clamp<int64_t>((wanted_columns + plane_out() - 1) / plane_out(), 1, batch);
     chunk = std::max<int64_t>(1, std::min(chunk, max_col_floats / std::max<int64_t>(
