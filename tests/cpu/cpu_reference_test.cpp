@@ -150,6 +150,55 @@ TEST(CpuReference, LargerConvolutionMatchesNestedLoops) {
   EXPECT_TRUE(all_close(y.to_host(), conv_reference(xv, xs, wv, ws, bv, 1, 1, 24, 24), 1e-4, 1e-4));
 }
 
+// dx of a convolution by nested loops: dx[n, ci, iy, ix] = sum over the outputs that read it.
+std::vector<float> conv_dx_reference(const std::vector<float>& dy, const Shape& xs,
+                                     const std::vector<float>& w, const Shape& ws, int64_t pad,
+                                     int64_t ho, int64_t wo) {
+  std::vector<double> dx(static_cast<size_t>(xs.numel()), 0.0);
+  for (int64_t n = 0; n < xs.n(); ++n)
+    for (int64_t co = 0; co < ws.n(); ++co)
+      for (int64_t oy = 0; oy < ho; ++oy)
+        for (int64_t ox = 0; ox < wo; ++ox) {
+          const double g = dy[((n * ws.n() + co) * ho + oy) * wo + ox];
+          for (int64_t ci = 0; ci < xs.c(); ++ci)
+            for (int64_t ky = 0; ky < ws.h(); ++ky)
+              for (int64_t kx = 0; kx < ws.w(); ++kx) {
+                const int64_t iy = oy - pad + ky, ix = ox - pad + kx;
+                if (iy < 0 || iy >= xs.h() || ix < 0 || ix >= xs.w()) continue;
+                dx[((n * xs.c() + ci) * xs.h() + iy) * xs.w() + ix] +=
+                    g * w[((co * ws.c() + ci) * ws.h() + ky) * ws.w() + kx];
+              }
+        }
+  return std::vector<float>(dx.begin(), dx.end());
+}
+
+// Stride-1 "same" convolutions with many input channels compute dx as a convolution with
+// flipped, transposed weights; few input channels (and 1x1) use GEMM + col2im. Both paths, with
+// and without accumulation, against nested loops, on odd non-square images.
+TEST(CpuReference, InputGradientOfSameConvolutionsMatchesNestedLoops) {
+  for (int64_t channels : {3, 40})
+    for (int64_t k : {1, 3, 5}) {
+      const Shape xs{2, channels, 13, 11}, ws{24, channels, k, k};
+      const int64_t pad = k / 2;
+      const auto wv = random_values(ws.numel(), 7);
+      const Shape ys{2, 24, 13, 11};
+      const auto dyv = random_values(ys.numel(), 8);
+      const Tensor x = host(xs, random_values(xs.numel(), 9));
+      const Tensor dx = Tensor::empty(cpu(), xs);
+      Conv2dParams p;
+      ops::conv2d_backward(x, host(ws, wv), host(ys, dyv), &dx, nullptr, nullptr, p, false);
+      const std::vector<float> expected = conv_dx_reference(dyv, xs, wv, ws, pad, 13, 11);
+      EXPECT_TRUE(all_close(dx.to_host(), expected, 1e-4, 1e-4))
+          << channels << " channels, kernel " << k;
+      // Accumulating adds the same gradient on top of what dx holds.
+      ops::conv2d_backward(x, host(ws, wv), host(ys, dyv), &dx, nullptr, nullptr, p, true);
+      std::vector<float> twice = expected;
+      for (float& v : twice) v *= 2.0f;
+      EXPECT_TRUE(all_close(dx.to_host(), twice, 2e-4, 1e-4))
+          << channels << " channels, kernel " << k << ", accumulate";
+    }
+}
+
 TEST(CpuReference, AccumulateAddsToExistingGradients) {
   const Tensor x = random_tensor(cpu(), Shape{2, 3, 6, 6}, 1);
   const Tensor w = random_tensor(cpu(), Shape{4, 3, 3, 3}, 2);
