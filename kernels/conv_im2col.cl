@@ -4,7 +4,20 @@
 
 #define WG 256
 
-// col[r, j] = x[n0 + g, ci, oy*stride - pad + ky, ox*stride - pad + kx] (0 outside the image).
+// The input value that column-matrix row r (tap (ci, ky, kx)) holds for output pixel (oy, ox) of
+// image `image`: x[image, ci, oy*stride - pad + ky, ox*stride - pad + kx], 0 in the padding.
+float im2col_value(__global const float* x, int image, int r, int oy, int ox, int Ci, int H,
+                   int W, int K, int stride, int pad) {
+  const int kx = r % K;
+  const int ky = (r / K) % K;
+  const int ci = r / (K * K);
+  const int iy = oy * stride - pad + ky;
+  const int ix = ox * stride - pad + kx;
+  if (iy < 0 || iy >= H || ix < 0 || ix >= W) return 0.0f;
+  return x[((image * Ci + ci) * H + iy) * W + ix];
+}
+
+// col[r, j] for j = g*Ho*Wo + oy*Wo + ox.
 // 3-D range (Wo, G*Ho, Ci*K*K): the index arithmetic of dimensions 1 and 2 is shared by a row.
 __kernel void im2col(__global const float* x, __global float* col, int n0, int G, int Ci, int H,
                      int W, int K, int stride, int pad, int Ho, int Wo) {
@@ -13,14 +26,8 @@ __kernel void im2col(__global const float* x, __global float* col, int n0, int G
   const int r = get_global_id(2);
   const int g = gy / Ho;
   const int oy = gy - g * Ho;
-  const int kx = r % K;
-  const int ky = (r / K) % K;
-  const int ci = r / (K * K);
-  const int iy = oy * stride - pad + ky;
-  const int ix = ox * stride - pad + kx;
-  float v = 0.0f;
-  if (iy >= 0 && iy < H && ix >= 0 && ix < W) v = x[(((n0 + g) * Ci + ci) * H + iy) * W + ix];
-  col[(r * G + g) * Ho * Wo + oy * Wo + ox] = v;
+  col[(r * G + g) * Ho * Wo + oy * Wo + ox] =
+      im2col_value(x, n0 + g, r, oy, ox, Ci, H, W, K, stride, pad);
 }
 
 // The transposed column matrix colT[j, r] = col[r, j] ([G*Ho*Wo, Ci*K*K]) for the weight
@@ -32,20 +39,12 @@ __kernel void im2col_transposed(__global const float* x, __global float* col_t, 
                                 int Wo) {
   const int r = get_global_id(0);
   const int j = get_global_id(1);
-  const int rows = Ci * K * K;
   const int plane_out = Ho * Wo;
   const int g = j / plane_out;
   const int pixel = j - g * plane_out;
   const int oy = pixel / Wo;
   const int ox = pixel - oy * Wo;
-  const int kx = r % K;
-  const int ky = (r / K) % K;
-  const int ci = r / (K * K);
-  const int iy = oy * stride - pad + ky;
-  const int ix = ox * stride - pad + kx;
-  float v = 0.0f;
-  if (iy >= 0 && iy < H && ix >= 0 && ix < W) v = x[(((n0 + g) * Ci + ci) * H + iy) * W + ix];
-  col_t[j * rows + r] = v;
+  col_t[j * (Ci * K * K) + r] = im2col_value(x, n0 + g, r, oy, ox, Ci, H, W, K, stride, pad);
 }
 
 // dx[n0 + g, ci, iy, ix] (+)= sum of the col entries that im2col copied from that pixel.
