@@ -128,14 +128,13 @@ void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor&
     // the weights flipped in space and transposed: dx[ci] = sum_co dy[co] (*) w[co, ci] rotated
     // by 180 degrees. That runs on the forward path (K = Co * k * k) instead of a K = Co GEMM
     // plus col2im: 3x3 128->128 at 64x64, batch 20, 157 -> 118 ms.
-    const int64_t taps_count = taps;
     Scratch flipped = scratch(static_cast<size_t>(out_channels * rows));
     float* pf = flipped.data();
     for (int64_t co = 0; co < out_channels; ++co)
       for (int64_t ci = 0; ci < g.channels; ++ci)
-        for (int64_t t = 0; t < taps_count; ++t)
-          pf[(ci * out_channels + co) * taps_count + (taps_count - 1 - t)] =
-              pw[(co * g.channels + ci) * taps_count + t];
+        for (int64_t t = 0; t < taps; ++t)
+          pf[(ci * out_channels + co) * taps + (taps - 1 - t)] =
+              pw[(co * g.channels + ci) * taps + t];
     ConvGeometry back = g;
     back.channels = out_channels;
     back.height = g.out_height;

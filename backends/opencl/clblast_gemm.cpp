@@ -67,10 +67,6 @@ std::string status_text(clblast::StatusCode code) {
   return "CLBlast status " + std::to_string(static_cast<int>(code));
 }
 
-}  // namespace
-
-namespace {
-
 // Lays `overrides` over CLBlast's current parameters of `kernel` for this device (parameters
 // not named, e.g. KREG, keep their values).
 void override_kernel(const Context& context, const char* kernel, const Parameters& overrides) {

@@ -54,7 +54,6 @@ void for_each_block(int64_t begin, int64_t end, int pixels, Fn fn) {
 // One block's pixels: the unit normal, its length, whether the pixel renders (state > 0, see
 // sh_load_normal), the clamped-cosine coefficients c, the visibility v and e = T(v, c).
 struct PixelBlock {
-  int count = 0;
   int state[kBlock];
   float unit[3][kBlock], length[kBlock];
   float c[kCoeffs][kBlock], v[kCoeffs][kBlock], e[kCoeffs][kBlock];
@@ -62,7 +61,6 @@ struct PixelBlock {
 
 void load_block(const float* normal, const float* visibility, const float* mask, int has_mask,
                 const Table& table, int n, int p0, int count, int pixels, PixelBlock& b) {
-  b.count = count;
   for (int q = 0; q < count; ++q) {
     const int p = p0 + q;
     float unit[3] = {0.0f, 0.0f, 0.0f}, len = 0.0f, c[kCoeffs];
@@ -95,6 +93,13 @@ void load_block(const float* normal, const float* visibility, const float* mask,
   }
 }
 
+// s[q] = sum_i l_i e_i[q]: one channel's shading of the block before the 1/pi factor.
+void light_dot_e(const float* l, const PixelBlock& b, int count, float* s) {
+  std::fill(s, s + count, 0.0f);
+  for (int i = 0; i < kCoeffs; ++i)
+    for (int q = 0; q < count; ++q) s[q] += l[i] * b.e[i][q];
+}
+
 // Arguments as in sh_render_forward of kernels/sh_render.cl.
 void forward(const CpuKernelArgs& a, int64_t begin, int64_t end) {
   const float* albedo = a.tensor(0);
@@ -114,11 +119,8 @@ void forward(const CpuKernelArgs& a, int64_t begin, int64_t end) {
     for (int q = 0; q < count; ++q)
       invalid[int64_t{n} * pixels + p0 + q] = b.state[q] < 0 ? 1.0f : 0.0f;
     for (int ch = 0; ch < 3; ++ch) {
-      const float* l = light + n * 27 + ch * kCoeffs;
       float s[kBlock];
-      std::fill(s, s + count, 0.0f);
-      for (int i = 0; i < kCoeffs; ++i)
-        for (int q = 0; q < count; ++q) s[q] += l[i] * b.e[i][q];
+      light_dot_e(light + n * 27 + ch * kCoeffs, b, count, s);
       const int64_t at = int64_t{n * 3 + ch} * pixels + p0;
       for (int q = 0; q < count; ++q) {
         const float value = b.state[q] > 0 ? s[q] * SH_INV_PI : 0.0f;
@@ -164,9 +166,7 @@ void backward(const CpuKernelArgs& a, int64_t begin, int64_t end) {
       const float* l = light + n * 27 + ch * kCoeffs;
       const int64_t at = int64_t{n * 3 + ch} * pixels + p0;
       float s[kBlock];
-      std::fill(s, s + count, 0.0f);
-      for (int i = 0; i < kCoeffs; ++i)
-        for (int q = 0; q < count; ++q) s[q] += l[i] * b.e[i][q];
+      light_dot_e(l, b, count, s);
       for (int q = 0; q < count; ++q) {
         const bool on = b.state[q] > 0;
         const float g_image = (flags & SH_HAS_D_IMAGE) ? d_image[at + q] : 0.0f;
