@@ -10,6 +10,8 @@
 
 namespace facetool::cpu {
 
+struct ConvGeometry;  // cpu_im2col.h
+
 class CpuBackend final : public Backend {
  public:
   CpuBackend();
@@ -104,6 +106,11 @@ class CpuBackend final : public Backend {
   Scratch scratch(size_t floats) { return Scratch(*allocator_, floats); }
 
  private:
+  // y (+)= conv(x, w) (+ bias) on raw arrays: Winograd where it applies, else im2col + SGEMM.
+  void convolve_any(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                    const float* x, const float* w, const float* bias, float* y,
+                    bool accumulate);
+
   std::shared_ptr<CachingAllocator> allocator_;
 };
 

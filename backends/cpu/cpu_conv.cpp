@@ -5,6 +5,7 @@
 
 #include "backends/cpu/cpu_backend_impl.h"
 #include "backends/cpu/cpu_im2col.h"
+#include "backends/cpu/cpu_winograd.h"
 #include "backends/cpu/cpu_workspace.h"
 #include "backends/cpu/gemm.h"
 #include "core/util/parallel_for.h"
@@ -82,10 +83,22 @@ void convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels, const 
 
 }  // namespace
 
+// y (+)= conv(x, w) (+ bias): Winograd where it applies, im2col + SGEMM otherwise.
+void CpuBackend::convolve_any(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                              const float* x, const float* w, const float* bias, float* y,
+                              bool accumulate) {
+  if (winograd_applicable(g, out_channels)) {
+    Scratch transformed = scratch(winograd_weight_floats(g, out_channels));
+    winograd_convolve(g, batch, out_channels, x, w, bias, y, accumulate, transformed.data());
+  } else {
+    convolve(g, batch, out_channels, x, w, bias, y, accumulate);
+  }
+}
+
 void CpuBackend::conv2d(const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& y,
                         const Conv2dParams& p) {
-  convolve(geometry(x, w, y, p), x.shape().n(), w.shape().n(), ptr(x), ptr(w),
-           bias ? ptr(*bias) : nullptr, ptr(y), false);
+  convolve_any(geometry(x, w, y, p), x.shape().n(), w.shape().n(), ptr(x), ptr(w),
+               bias ? ptr(*bias) : nullptr, ptr(y), false);
 }
 
 void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor& dy,
@@ -141,7 +154,7 @@ void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor&
     back.width = g.out_width;
     back.out_height = g.height;
     back.out_width = g.width;
-    convolve(back, batch, g.channels, pdy, pf, nullptr, ptr(*dx), accumulate);
+    convolve_any(back, batch, g.channels, pdy, pf, nullptr, ptr(*dx), accumulate);
   } else if (dx) {
     // Input channel c only receives from im2col rows of channel c, so tasks over (image,
     // channel group) write disjoint parts of dx. Enough groups to keep every thread busy.
@@ -180,7 +193,11 @@ void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor&
     });
   }
 
-  if (dw) {
+  if (dw && winograd_applicable(g, out_channels)) {
+    Scratch partials = scratch(winograd_weight_gradient_floats(g, out_channels));
+    winograd_weight_gradient(g, batch, out_channels, px, pdy, ptr(*dw), accumulate,
+                             partials.data());
+  } else if (dw) {
     // Each thread sums dy * col^T over its (image, pixel block) tasks into its own partial
     // [Co, K]; the partials are added up at the end.
     const int64_t block = pixel_block(g, kWeightGradBlockFloats);

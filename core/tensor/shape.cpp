@@ -16,7 +16,8 @@ Shape::Shape(std::initializer_list<int64_t> dims) {
 
 int64_t Shape::dim(int i) const {
   if (i < 0) i += rank_;
-  check(i >= 0 && i < rank_, "Shape ", str(), ": no dimension ", i);
+  // fail() directly: check() would build str() on every call, even when the index is valid.
+  if (i < 0 || i >= rank_) fail("Shape ", str(), ": no dimension ", i);
   return dims_[i];
 }
 
@@ -27,7 +28,7 @@ int64_t Shape::numel() const {
 }
 
 static void require_nchw(const Shape& s) {
-  check(s.rank() == 4, "expected an NCHW tensor of rank 4, got shape ", s.str());
+  if (s.rank() != 4) fail("expected an NCHW tensor of rank 4, got shape ", s.str());
 }
 
 int64_t Shape::n() const { require_nchw(*this); return dims_[0]; }

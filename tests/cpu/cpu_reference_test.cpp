@@ -6,6 +6,7 @@
 
 #include "core/backend/registry.h"
 #include "core/ops/ops.h"
+#include "tests/cpu/conv_reference.h"
 #include "tests/support/test_support.h"
 
 namespace facetool::testing {
@@ -92,30 +93,6 @@ TEST(CpuReference, BilinearUpsamplingAtTheBorders) {
   EXPECT_TRUE(all_close(dx.to_host(), {4, 4, 4, 4}, 1e-6, 0));
 }
 
-// y[n, co, oy, ox] = b[co] + sum x[n, ci, oy*s - pad + ky, ox*s - pad + kx] * w[co, ci, ky, kx]
-std::vector<float> conv_reference(const std::vector<float>& x, const Shape& xs,
-                                  const std::vector<float>& w, const Shape& ws,
-                                  const std::vector<float>& b, int stride, int pad, int64_t ho,
-                                  int64_t wo) {
-  std::vector<float> y(static_cast<size_t>(xs.n() * ws.n() * ho * wo));
-  for (int64_t n = 0; n < xs.n(); ++n)
-    for (int64_t co = 0; co < ws.n(); ++co)
-      for (int64_t oy = 0; oy < ho; ++oy)
-        for (int64_t ox = 0; ox < wo; ++ox) {
-          double acc = b[co];
-          for (int64_t ci = 0; ci < xs.c(); ++ci)
-            for (int64_t ky = 0; ky < ws.h(); ++ky)
-              for (int64_t kx = 0; kx < ws.w(); ++kx) {
-                const int64_t iy = oy * stride - pad + ky, ix = ox * stride - pad + kx;
-                if (iy < 0 || iy >= xs.h() || ix < 0 || ix >= xs.w()) continue;
-                acc += double(x[((n * xs.c() + ci) * xs.h() + iy) * xs.w() + ix]) *
-                       w[((co * ws.c() + ci) * ws.h() + ky) * ws.w() + kx];
-              }
-          y[((n * ws.n() + co) * ho + oy) * wo + ox] = float(acc);
-        }
-  return y;
-}
-
 TEST(CpuReference, StrideTwoPaddedConvolutionAtOddSizes) {
   for (int64_t size : {5, 7}) {
     for (int pad : {1, 0}) {
@@ -148,28 +125,6 @@ TEST(CpuReference, LargerConvolutionMatchesNestedLoops) {
   const Tensor bias = host(Shape{8}, bv);
   const Tensor y = ops::conv2d(host(xs, xv), host(ws, wv), &bias, Conv2dParams{});
   EXPECT_TRUE(all_close(y.to_host(), conv_reference(xv, xs, wv, ws, bv, 1, 1, 24, 24), 1e-4, 1e-4));
-}
-
-// dx of a convolution by nested loops: dx[n, ci, iy, ix] = sum over the outputs that read it.
-std::vector<float> conv_dx_reference(const std::vector<float>& dy, const Shape& xs,
-                                     const std::vector<float>& w, const Shape& ws, int64_t pad,
-                                     int64_t ho, int64_t wo) {
-  std::vector<double> dx(static_cast<size_t>(xs.numel()), 0.0);
-  for (int64_t n = 0; n < xs.n(); ++n)
-    for (int64_t co = 0; co < ws.n(); ++co)
-      for (int64_t oy = 0; oy < ho; ++oy)
-        for (int64_t ox = 0; ox < wo; ++ox) {
-          const double g = dy[((n * ws.n() + co) * ho + oy) * wo + ox];
-          for (int64_t ci = 0; ci < xs.c(); ++ci)
-            for (int64_t ky = 0; ky < ws.h(); ++ky)
-              for (int64_t kx = 0; kx < ws.w(); ++kx) {
-                const int64_t iy = oy - pad + ky, ix = ox - pad + kx;
-                if (iy < 0 || iy >= xs.h() || ix < 0 || ix >= xs.w()) continue;
-                dx[((n * xs.c() + ci) * xs.h() + iy) * xs.w() + ix] +=
-                    g * w[((co * ws.c() + ci) * ws.h() + ky) * ws.w() + kx];
-              }
-        }
-  return std::vector<float>(dx.begin(), dx.end());
 }
 
 // Stride-1 "same" convolutions with many input channels compute dx as a convolution with

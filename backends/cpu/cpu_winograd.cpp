@@ -1,0 +1,373 @@
+// Winograd F(4x4, 3x3): weight, input-tile and output-tile transforms around 36 SGEMMs.
+#include "backends/cpu/cpu_winograd.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "backends/cpu/cpu_backend_impl.h"
+#include "backends/cpu/cpu_workspace.h"
+#include "backends/cpu/gemm.h"
+#include "core/util/parallel_for.h"
+
+namespace facetool::cpu {
+namespace {
+
+constexpr int64_t kTile = 4;     // output tile edge
+constexpr int64_t kPatch = 6;    // input patch edge: kTile + 3 - 1
+constexpr int64_t kPoints = 36;  // transformed values per tile: kPatch^2
+// Tiles per task: the task's transformed input (36 x Ci x tiles floats) stays near L2.
+constexpr int64_t kTilesPerTask = 128;
+
+// The transforms of Lavin and Gray for interpolation points 0, 1, -1, 2, -2 and infinity,
+// each applied along one axis to vectors of n values (one per tile): the k-th input vector
+// starts at in + k * in_stride, the i-th output vector at out + i * out_stride.
+
+// out = B^T in: 6 -> 6.
+void input_transform(const float* __restrict in, int64_t in_stride, float* __restrict out,
+                     int64_t out_stride, int64_t n) {
+  const float *d0 = in, *d1 = in + in_stride, *d2 = in + 2 * in_stride,
+              *d3 = in + 3 * in_stride, *d4 = in + 4 * in_stride, *d5 = in + 5 * in_stride;
+  float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
+        *o3 = out + 3 * out_stride, *o4 = out + 4 * out_stride, *o5 = out + 5 * out_stride;
+  for (int64_t j = 0; j < n; ++j) {
+    o0[j] = 4.0f * d0[j] - 5.0f * d2[j] + d4[j];
+    o1[j] = -4.0f * (d1[j] + d2[j]) + d3[j] + d4[j];
+    o2[j] = 4.0f * (d1[j] - d2[j]) - d3[j] + d4[j];
+    o3[j] = 2.0f * (d3[j] - d1[j]) - d2[j] + d4[j];
+    o4[j] = 2.0f * (d1[j] - d3[j]) - d2[j] + d4[j];
+    o5[j] = 4.0f * d1[j] - 5.0f * d3[j] + d5[j];
+  }
+}
+
+// out = A^T in: 6 -> 4.
+void output_transform(const float* __restrict in, int64_t in_stride, float* __restrict out,
+                      int64_t out_stride, int64_t n) {
+  const float *m0 = in, *m1 = in + in_stride, *m2 = in + 2 * in_stride,
+              *m3 = in + 3 * in_stride, *m4 = in + 4 * in_stride, *m5 = in + 5 * in_stride;
+  float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
+        *o3 = out + 3 * out_stride;
+  for (int64_t j = 0; j < n; ++j) {
+    const float sum12 = m1[j] + m2[j], diff12 = m1[j] - m2[j];
+    const float sum34 = m3[j] + m4[j], diff34 = m3[j] - m4[j];
+    o0[j] = m0[j] + sum12 + sum34;
+    o1[j] = diff12 + 2.0f * diff34;
+    o2[j] = sum12 + 4.0f * sum34;
+    o3[j] = diff12 + 8.0f * diff34 + m5[j];
+  }
+}
+
+// out = G in: 3 -> 6 (in double; the weights are transformed once per call).
+void weight_transform(const double in[3], double out[6]) {
+  out[0] = in[0] / 4.0;
+  out[1] = -(in[0] + in[1] + in[2]) / 6.0;
+  out[2] = -(in[0] - in[1] + in[2]) / 6.0;
+  out[3] = in[0] / 24.0 + in[1] / 12.0 + in[2] / 6.0;
+  out[4] = in[0] / 24.0 - in[1] / 12.0 + in[2] / 6.0;
+  out[5] = in[2];
+}
+
+// out = A in: 4 -> 6, the adjoint of output_transform (for the weight gradient's dy tiles).
+void output_transform_adjoint(const float* __restrict in, int64_t in_stride,
+                              float* __restrict out, int64_t out_stride, int64_t n) {
+  const float *d0 = in, *d1 = in + in_stride, *d2 = in + 2 * in_stride,
+              *d3 = in + 3 * in_stride;
+  float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
+        *o3 = out + 3 * out_stride, *o4 = out + 4 * out_stride, *o5 = out + 5 * out_stride;
+  for (int64_t j = 0; j < n; ++j) {
+    const float even = d0[j] + 4.0f * d2[j], odd = 2.0f * d1[j] + 8.0f * d3[j];
+    o0[j] = d0[j];
+    o1[j] = d0[j] + d1[j] + d2[j] + d3[j];
+    o2[j] = d0[j] - d1[j] + d2[j] - d3[j];
+    o3[j] = even + odd;
+    o4[j] = even - odd;
+    o5[j] = d3[j];
+  }
+}
+
+// out = G^T in: 6 -> 3, the adjoint of weight_transform.
+void weight_transform_adjoint(const double in[6], double out[3]) {
+  out[0] = in[0] / 4.0 - (in[1] + in[2]) / 6.0 + (in[3] + in[4]) / 24.0;
+  out[1] = (in[2] - in[1]) / 6.0 + (in[3] - in[4]) / 12.0;
+  out[2] = (in[3] + in[4] - in[1] - in[2]) / 6.0 + in[5];
+}
+
+// u[xi * Co * Ci + co * Ci + ci] = (G w[co, ci] G^T)[xi]: 36 matrices [Co, Ci].
+void transform_weights(int64_t out_channels, int64_t channels, const float* w, float* u) {
+  parallel_for(out_channels, 1, [&](int64_t begin, int64_t end) {
+    for (int64_t co = begin; co < end; ++co) {
+      for (int64_t ci = 0; ci < channels; ++ci) {
+        const float* k = w + (co * channels + ci) * 9;
+        double columns[6][3];  // (G w)[i][kx]
+        for (int kx = 0; kx < 3; ++kx) {
+          const double column[3] = {k[kx], k[3 + kx], k[6 + kx]};
+          double transformed[6];
+          weight_transform(column, transformed);
+          for (int i = 0; i < 6; ++i) columns[i][kx] = transformed[i];
+        }
+        for (int i = 0; i < 6; ++i) {
+          double row[6];
+          weight_transform(columns[i], row);
+          for (int s = 0; s < 6; ++s)
+            u[((i * kPatch + s) * out_channels + co) * channels + ci] = static_cast<float>(row[s]);
+        }
+      }
+    }
+  });
+}
+
+// Where one task's tiles are: image n, tiles [first, first + count) in row-major tile order.
+struct TileRange {
+  int64_t n, first, count;
+};
+
+// Calls visit(j0, ty, tx0, tx1) for each run of tiles in one tile row: tiles j0, j0 + 1, ...
+// of the range are (ty, tx0), (ty, tx0 + 1), ... (ty, tx1 - 1).
+template <typename Visit>
+void for_each_tile_row(const TileRange& r, int64_t tiles_x, Visit visit) {
+  int64_t tile = r.first;
+  const int64_t end = r.first + r.count;
+  while (tile < end) {
+    const int64_t ty = tile / tiles_x;
+    const int64_t tx0 = tile % tiles_x;
+    const int64_t tx1 = std::min(tiles_x, tx0 + (end - tile));
+    visit(tile - r.first, ty, tx0, tx1);
+    tile += tx1 - tx0;
+  }
+}
+
+// patch[(py * 6 + px) * stride + j] = the 6x6 input patch of tile j (zero outside the image):
+// along a tile row, patch column px of consecutive tiles reads every 4th input value.
+void gather_patches(const ConvGeometry& g, int64_t tiles_x, const float* plane,
+                    const TileRange& r, int64_t stride, float* patch) {
+  for_each_tile_row(r, tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
+    for (int64_t py = 0; py < kPatch; ++py) {
+      const int64_t iy = ty * kTile - 1 + py;
+      for (int64_t px = 0; px < kPatch; ++px) {
+        float* dst = patch + (py * kPatch + px) * stride + j0 - tx0;  // dst[tx]
+        if (iy < 0 || iy >= g.height) {
+          std::fill(dst + tx0, dst + tx1, 0.0f);
+          continue;
+        }
+        // Input column of tile tx: tx * 4 + offset, inside [0, width) for tx in [lo, hi).
+        const int64_t offset = px - 1;
+        const int64_t lo = std::clamp<int64_t>((-offset + kTile - 1) / kTile, tx0, tx1);
+        const int64_t hi = std::clamp<int64_t>((g.width - offset + kTile - 1) / kTile, lo, tx1);
+        const float* row = plane + iy * g.width + offset;
+        std::fill(dst + tx0, dst + lo, 0.0f);
+        for (int64_t tx = lo; tx < hi; ++tx) dst[tx] = row[tx * kTile];
+        std::fill(dst + hi, dst + tx1, 0.0f);
+      }
+    }
+  });
+}
+
+// plane (+)= tile values tiles[(a * 4 + b) * stride + j] + bias, clipped to the image.
+void scatter_tiles(const ConvGeometry& g, int64_t tiles_x, const float* tiles, int64_t stride,
+                   const TileRange& r, float bias, float* plane, bool accumulate) {
+  for_each_tile_row(r, tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
+    for (int64_t a = 0; a < kTile; ++a) {
+      const int64_t oy = ty * kTile + a;
+      if (oy >= g.out_height) break;
+      for (int64_t b = 0; b < kTile; ++b) {
+        const float* src = tiles + (a * kTile + b) * stride + j0 - tx0;  // src[tx]
+        // Output column tx * 4 + b lies inside the image for tx < hi.
+        const int64_t hi = std::clamp<int64_t>((g.out_width - b + kTile - 1) / kTile, tx0, tx1);
+        float* out = plane + oy * g.out_width + b;
+        if (accumulate) {
+          for (int64_t tx = tx0; tx < hi; ++tx) out[tx * kTile] += src[tx] + bias;
+        } else {
+          for (int64_t tx = tx0; tx < hi; ++tx) out[tx * kTile] = src[tx] + bias;
+        }
+      }
+    }
+  });
+}
+
+// tiles[(a * 4 + b) * stride + j] = plane at output pixel (4 ty + a, 4 tx + b) of tile j, or 0
+// past the image's edge: the adjoint of scatter_tiles.
+void gather_tiles(const ConvGeometry& g, int64_t tiles_x, const float* plane, const TileRange& r,
+                  int64_t stride, float* tiles) {
+  for_each_tile_row(r, tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
+    for (int64_t a = 0; a < kTile; ++a) {
+      const int64_t oy = ty * kTile + a;
+      for (int64_t b = 0; b < kTile; ++b) {
+        float* dst = tiles + (a * kTile + b) * stride + j0 - tx0;  // dst[tx]
+        const int64_t hi = oy < g.out_height
+                               ? std::clamp<int64_t>((g.out_width - b + kTile - 1) / kTile, tx0, tx1)
+                               : tx0;
+        const float* in = plane + oy * g.out_width + b;
+        for (int64_t tx = tx0; tx < hi; ++tx) dst[tx] = in[tx * kTile];
+        std::fill(dst + hi, dst + tx1, 0.0f);
+      }
+    }
+  });
+}
+
+// Per-thread buffers of one task: transformed inputs, products or dy tiles, and two [36][T]
+// staging areas.
+struct TaskBuffers {
+  float* v;      // [36][Ci][T]: B^T patch B of every input channel
+  float* m;      // [36][Co][T]: GEMM products (forward) or A dy A^T (weight gradient)
+  float* patch;  // [36][T]
+  float* half;   // [36][T]
+};
+
+TaskBuffers task_buffers(int64_t channels, int64_t out_channels) {
+  const int64_t T = kTilesPerTask;
+  TaskBuffers b;
+  b.v = thread_workspace(static_cast<size_t>(kPoints * T * (channels + out_channels + 2)));
+  b.m = b.v + kPoints * channels * T;
+  b.patch = b.m + kPoints * out_channels * T;
+  b.half = b.patch + kPoints * T;
+  return b;
+}
+
+// The tiles of a convolution's output: 4x4 each, row-major within an image, cut into tasks of
+// kTilesPerTask tiles that never span two images.
+struct Tiling {
+  int64_t tiles_x, tiles, tasks_per_image;
+  explicit Tiling(const ConvGeometry& g)
+      : tiles_x((g.out_width + kTile - 1) / kTile),
+        tiles(tiles_x * ((g.out_height + kTile - 1) / kTile)),
+        tasks_per_image((tiles + kTilesPerTask - 1) / kTilesPerTask) {}
+  TileRange task(int64_t t) const {
+    TileRange r;
+    r.n = t / tasks_per_image;
+    r.first = (t % tasks_per_image) * kTilesPerTask;
+    r.count = std::min(kTilesPerTask, tiles - r.first);
+    return r;
+  }
+};
+
+// b.v[xi][c][j] = (B^T patch B)[xi] of tile j for every input channel c of image r.n.
+void transform_input_tiles(const ConvGeometry& g, const Tiling& t, const float* x,
+                           const TileRange& r, const TaskBuffers& b) {
+  const int64_t T = kTilesPerTask;
+  const int64_t channels = g.channels;
+  for (int64_t c = 0; c < channels; ++c) {
+    gather_patches(g, t.tiles_x, x + (r.n * channels + c) * g.height * g.width, r, T, b.patch);
+    for (int64_t s = 0; s < kPatch; ++s)  // along the patch's rows: half[i][s] = (B^T d)
+      input_transform(b.patch + s * T, kPatch * T, b.half + s * T, kPatch * T, r.count);
+    for (int64_t i = 0; i < kPatch; ++i)  // along its columns: v[i][s'] = (B^T d B)
+      input_transform(b.half + i * kPatch * T, T, b.v + (i * kPatch * channels + c) * T,
+                      channels * T, r.count);
+  }
+}
+
+}  // namespace
+
+bool winograd_applicable(const ConvGeometry& g, int64_t out_channels) {
+  return g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
+         g.out_width == g.width && g.channels >= 32 && out_channels >= 32;
+}
+
+size_t winograd_weight_floats(const ConvGeometry& g, int64_t out_channels) {
+  return static_cast<size_t>(kPoints * out_channels * g.channels);
+}
+
+void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                       const float* x, const float* w, const float* bias, float* y,
+                       bool accumulate, float* transformed_weights) {
+  const int64_t channels = g.channels;
+  const int64_t out_plane = g.out_height * g.out_width;
+  const int64_t T = kTilesPerTask;  // stride between the vectors of one tile value
+  const Tiling tiling(g);
+  transform_weights(out_channels, channels, w, transformed_weights);
+  const float* u = transformed_weights;
+
+  parallel_for(batch * tiling.tasks_per_image, 1, [&](int64_t begin, int64_t end) {
+    const TaskBuffers b = task_buffers(channels, out_channels);
+    for (int64_t task = begin; task < end; ++task) {
+      const TileRange r = tiling.task(task);
+      transform_input_tiles(g, tiling, x, r, b);
+      // m[xi] = u[xi] [Co, Ci] x v[xi] [Ci, tiles]
+      for (int64_t xi = 0; xi < kPoints; ++xi)
+        sgemm(false, false, out_channels, r.count, channels, 1.0f,
+              u + xi * out_channels * channels, channels, b.v + xi * channels * T, T, 0.0f,
+              b.m + xi * out_channels * T, T);
+      // y tile = A^T m A for every output channel.
+      for (int64_t co = 0; co < out_channels; ++co) {
+        for (int64_t s = 0; s < kPatch; ++s)  // half[a][s] = (A^T m)
+          output_transform(b.m + (s * out_channels + co) * T, kPatch * out_channels * T,
+                           b.half + s * T, kPatch * T, r.count);
+        float* tile_values = b.patch;  // [16][T]
+        for (int64_t a = 0; a < kTile; ++a)  // tile_values[a][b] = (A^T m A)
+          output_transform(b.half + a * kPatch * T, T, tile_values + a * kTile * T, T, r.count);
+        scatter_tiles(g, tiling.tiles_x, tile_values, T, r, bias ? bias[co] : 0.0f,
+                      y + (r.n * out_channels + co) * out_plane, accumulate);
+      }
+    }
+  });
+}
+
+size_t winograd_weight_gradient_floats(const ConvGeometry& g, int64_t out_channels) {
+  return static_cast<size_t>(parallel_thread_count()) * winograd_weight_floats(g, out_channels);
+}
+
+void winograd_weight_gradient(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                              const float* x, const float* dy, float* dw, bool accumulate,
+                              float* partials) {
+  const int64_t channels = g.channels;
+  const int64_t out_plane = g.out_height * g.out_width;
+  const int64_t T = kTilesPerTask;
+  const int64_t weights = kPoints * out_channels * channels;
+  const Tiling tiling(g);
+  std::vector<char> used(static_cast<size_t>(parallel_thread_count()), 0);
+
+  // partial[xi] [Co, Ci] += (A dy A^T)[xi] [Co, tiles] x (B^T x B)[xi]^T [tiles, Ci]
+  parallel_for(batch * tiling.tasks_per_image, 1, [&](int64_t begin, int64_t end) {
+    const int slot = parallel_thread_slot();
+    float* partial = partials + slot * weights;
+    const TaskBuffers b = task_buffers(channels, out_channels);
+    for (int64_t task = begin; task < end; ++task) {
+      const TileRange r = tiling.task(task);
+      transform_input_tiles(g, tiling, x, r, b);
+      for (int64_t co = 0; co < out_channels; ++co) {
+        float* tile_values = b.patch;  // [16][T]
+        gather_tiles(g, tiling.tiles_x, dy + (r.n * out_channels + co) * out_plane, r, T,
+                     tile_values);
+        for (int64_t col = 0; col < kTile; ++col)  // along the tile's rows: half[i][col]
+          output_transform_adjoint(tile_values + col * T, kTile * T, b.half + col * T,
+                                   kTile * T, r.count);
+        for (int64_t i = 0; i < kPatch; ++i)  // along its columns: m[i][s] = (A dy A^T)
+          output_transform_adjoint(b.half + i * kTile * T, T,
+                                   b.m + (i * kPatch * out_channels + co) * T,
+                                   out_channels * T, r.count);
+      }
+      const float beta = used[slot] ? 1.0f : 0.0f;
+      for (int64_t xi = 0; xi < kPoints; ++xi)
+        sgemm(false, true, out_channels, channels, r.count, 1.0f, b.m + xi * out_channels * T,
+              T, b.v + xi * channels * T, T, beta, partial + xi * out_channels * channels,
+              channels);
+      used[slot] = 1;
+    }
+  });
+
+  // dw[co, ci] = G^T (sum of the partials) G
+  const int64_t pairs = out_channels * channels;
+  parallel_for(pairs, 64, [&](int64_t begin, int64_t end) {
+    for (int64_t pair = begin; pair < end; ++pair) {
+      double summed[6][6] = {};
+      for (size_t slot = 0; slot < used.size(); ++slot) {
+        if (!used[slot]) continue;
+        const float* partial = partials + static_cast<int64_t>(slot) * weights + pair;
+        for (int64_t xi = 0; xi < kPoints; ++xi) summed[xi / kPatch][xi % kPatch] += partial[xi * pairs];
+      }
+      double rows[3][6];  // (G^T S)[ky][s]
+      for (int64_t s = 0; s < kPatch; ++s) {
+        double column[6], reduced[3];
+        for (int64_t i = 0; i < kPatch; ++i) column[i] = summed[i][s];
+        weight_transform_adjoint(column, reduced);
+        for (int ky = 0; ky < 3; ++ky) rows[ky][s] = reduced[ky];
+      }
+      float* out = dw + pair * 9;
+      for (int ky = 0; ky < 3; ++ky) {
+        double reduced[3];
+        weight_transform_adjoint(rows[ky], reduced);
+        for (int kx = 0; kx < 3; ++kx) store(out[ky * 3 + kx], static_cast<float>(reduced[kx]), accumulate);
+      }
+    }
+  });
+}
+
+}  // namespace facetool::cpu
