@@ -1,7 +1,8 @@
-// OpenclBackend convolution (im2col/col2im + CLBlast GEMM) and the fully connected layer.
+// OpenclBackend convolution (Winograd or im2col/col2im + CLBlast GEMM) and the fully connected layer.
 #include <algorithm>
 
 #include "backends/opencl/opencl_backend.h"
+#include "backends/opencl/ops_winograd.h"
 
 namespace facetool::opencl {
 namespace {
@@ -16,6 +17,9 @@ struct ConvGeometry {
   int64_t plane_out() const { return ho * wo; }
   // A 1x1 stride-1 unpadded convolution reads x directly as its column matrix.
   bool pointwise() const { return k == 1 && stride == 1 && pad == 0; }
+  bool winograd() const { return winograd_applicable(k, stride, pad, ci, co, ho == h && wo == w); }
+  // The convolution as the Winograd path sees it: ci -> co on h x w.
+  WinogradProblem winograd_problem() const { return {batch, ci, co, h, w}; }
   int64_t chunk;
 
   ConvGeometry(const Tensor& x, const Tensor& w, const Conv2dParams& p) {
@@ -59,6 +63,10 @@ void im2col_transposed(OpenclBackend& be, const Tensor& x, const Tensor& col_t,
 void OpenclBackend::conv2d(const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& y,
                            const Conv2dParams& p) {
   const ConvGeometry g(x, w, p);
+  if (g.winograd()) {
+    winograd_convolve(*this, g.winograd_problem(), x, w, false, bias, y, false);
+    return;
+  }
   const int64_t plane = g.plane_out();
   const bool direct_output = g.chunk == 1;
   Tensor col = g.pointwise() && direct_output ? Tensor() : scratch(g.rows() * g.chunk * plane);
@@ -99,6 +107,14 @@ void OpenclBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tens
   if (dbias)
     run_groups(*this, kConv, "channel_sum", g.co, dy, *dbias, g.batch, g.co, plane, accumulate);
   if (!dx && !dw) return;
+  if (g.winograd()) {
+    // dx is the convolution of dy with the weights transposed and rotated by 180 degrees.
+    if (dx)
+      winograd_convolve(*this, {g.batch, g.co, g.ci, g.h, g.w}, dy, w, true, nullptr, *dx,
+                        accumulate);
+    if (dw) winograd_weight_gradient(*this, g.winograd_problem(), x, dy, *dw, accumulate);
+    return;
+  }
 
   Tensor packed_dy = direct ? Tensor() : scratch(g.co * g.chunk * plane);
   const bool col_from_x = g.pointwise() && direct;

@@ -205,14 +205,15 @@ TEST(PaperNetwork, TrainingGradientsMatchFiniteDifferences) {
 }
 
 // The whole network on every other backend against cpu, forward and backward, random weights.
+// Width 32 so that the 3x3 layers take both backends' Winograd paths.
 TEST(PaperNetwork, BackendsAgreeWithCpu) {
   auto others = testing::non_reference_backends();
   if (others.empty()) GTEST_SKIP() << "no backend besides cpu can run here";
   Backend& cpu = get_backend("cpu");
   for (const std::string& name : others) {
     Backend& be = get_backend(name);
-    auto ref = make_network(cpu, NetworkConfig{16, 32}, 14);
-    auto net = make_network(be, NetworkConfig{16, 32}, 14);
+    auto ref = make_network(cpu, NetworkConfig{32, 32}, 14);
+    auto net = make_network(be, NetworkConfig{32, 32}, 14);
     Tensor images = random_tensor(cpu, Shape{2, 3, 32, 32}, 15, 0.0f, 1.0f);
     auto run = [&](NetworkPlugin& n, Backend& b) {
       NetworkOutputs out = n.forward(ag::Variable(images.to(b)), true);

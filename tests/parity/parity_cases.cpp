@@ -162,16 +162,21 @@ std::vector<OpCase> element_wise_cases() {
 // Which gradients a convolution case asks for.
 enum class ConvGrads { All, DxOnly, DwOnly };
 
-OpCase conv_case(int k, int stride, bool bias, ConvGrads wanted) {
+// in -> out channels: the defaults take the im2col path; 3x3 stride-1 cases with >= 32 channels
+// on both sides take the Winograd path of both backends.
+OpCase conv_case(int k, int stride, bool bias, ConvGrads wanted, int64_t in_channels = 4,
+                 int64_t out_channels = 6) {
   std::string name = "conv2d_k" + std::to_string(k) + "_s" + std::to_string(stride) +
                      (bias ? "_bias" : "_nobias");
+  if (in_channels != 4 || out_channels != 6)
+    name += "_" + std::to_string(in_channels) + "to" + std::to_string(out_channels);
   if (wanted == ConvGrads::DxOnly) name += "_dx_only";
   if (wanted == ConvGrads::DwOnly) name += "_dw_only";
   return {name, kGemmAtol, kGemmRtol, [=](Backend& be, const Geometry& g) {
             Outputs out;
-            Tensor x = rnd(be, nchw(g, 4), 1);
-            Tensor w = rnd(be, Shape{6, 4, k, k}, 2, -0.5f, 0.5f);
-            Tensor b = rnd(be, Shape{6}, 3);
+            Tensor x = rnd(be, nchw(g, in_channels), 1);
+            Tensor w = rnd(be, Shape{out_channels, in_channels, k, k}, 2, -0.5f, 0.5f);
+            Tensor b = rnd(be, Shape{out_channels}, 3);
             Conv2dParams p;
             p.stride = stride;
             Tensor y = ops::conv2d(x, w, bias ? &b : nullptr, p);
@@ -251,6 +256,7 @@ std::vector<OpCase> layer_cases() {
   cases.push_back(conv_case(3, 1, false, ConvGrads::DxOnly));
   cases.push_back(conv_case(3, 2, true, ConvGrads::DwOnly));
   cases.push_back(conv_case(1, 1, false, ConvGrads::DwOnly));
+  cases.push_back(conv_case(3, 1, true, ConvGrads::All, 32, 33));
   cases.push_back(linear_case(true));
   cases.push_back(linear_case(false));
   cases.push_back(batch_norm_case(true));
