@@ -137,7 +137,9 @@ void run_op_benchmarks(Backend& backend, const std::vector<int>& batches, int re
   for (int batch : batches)
     check(batch >= 1, "bench ops: batch sizes must be at least 1, got ", batch);
   out << "op benchmarks on '" << backend.name() << "' (" << backend.device_description()
-      << "), median of " << repeats << " runs after a warm-up\n";
+      << "), median of " << repeats << " runs after a warm-up\n"
+      << "GFLOP/s counts a direct convolution's multiply-adds (2 FLOP each), also for layers "
+         "computed with Winograd's fewer\n";
   char header[256];
   std::snprintf(header, sizeof header, "%-38s %6s  %-20s %10s %10s", "layer", "batch",
                 "direction", "ms", "GFLOP/s");
