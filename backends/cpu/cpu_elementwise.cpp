@@ -1,18 +1,25 @@
 // Element-wise ops, channel copies and activations of the cpu backend.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "backends/cpu/cpu_backend_impl.h"
 #include "core/util/parallel_for.h"
+#include "core/util/vector_clones.h"
 
 namespace facetool::cpu {
 namespace {
 
-// Runs body(i) for every i in [0, n) in parallel chunks.
+// Runs body(i) for every i in [0, n) in parallel chunks. body(i) touches element i only (it may
+// write it in place). Each chunk runs a private copy of body, so the compiler knows stores
+// through its pointers cannot change its captured scalars and pointers, and the loop is
+// vectorised without overlap checks (leaky ReLU: a scalar, branchy loop before, 4x slower).
 template <typename Body>
 void for_each_index(int64_t n, Body body) {
   parallel_for(n, kElementwiseGrain, [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) body(i);
+    const Body local = body;
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = begin; i < end; ++i) local(i);
   });
 }
 
@@ -98,8 +105,12 @@ void CpuBackend::mul_backward(const Tensor& a, const Tensor& b, const Tensor& dy
 void CpuBackend::leaky_relu(const Tensor& x, float slope, const Tensor& y) {
   const float* px = ptr(x);
   float* py = ptr(y);
-  // Written as a select on x > 0 so a NaN input gives slope * NaN = NaN.
-  for_each_index(y.numel(), [=](int64_t i) { py[i] = px[i] > 0.0f ? px[i] : slope * px[i]; });
+  // max(x, 0) + slope * min(x, 0): exact for either sign, NaN stays NaN, and with no branch the
+  // loop vectorises (GCC turns x > 0 ? x : slope * x, and even x * (x > 0 ? 1 : slope), into a
+  // branch that mispredicts on every sign change).
+  for_each_index(y.numel(), [=](int64_t i) {
+    py[i] = std::max(px[i], 0.0f) + slope * std::min(px[i], 0.0f);
+  });
 }
 
 void CpuBackend::leaky_relu_backward(const Tensor& x, float slope, const Tensor& dy,

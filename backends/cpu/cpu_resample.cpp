@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "backends/cpu/cpu_backend_impl.h"
+#include "backends/cpu/cpu_workspace.h"
 #include "core/util/parallel_for.h"
 
 namespace facetool::cpu {
@@ -24,6 +25,38 @@ Taps taps(int64_t o, int64_t size) {
   return t;
 }
 
+// One row upsampled 2x along x: out[2k] = 0.25 in[k-1] + 0.75 in[k] and out[2k+1] = 0.75 in[k] +
+// 0.25 in[k+1], the neighbours clamped at the row's ends (what taps() gives, without its
+// per-pixel arithmetic).
+void upsample_row(const float* in, int64_t w, float* out) {
+  for (int64_t k = 0; k < w; ++k) {
+    const float left = in[k > 0 ? k - 1 : 0], right = in[k + 1 < w ? k + 1 : w - 1];
+    out[2 * k] = 0.25f * left + 0.75f * in[k];
+    out[2 * k + 1] = 0.75f * in[k] + 0.25f * right;
+  }
+}
+
+// in[k] (+)= the gradient upsample_row sends back from g (2w values).
+void upsample_row_adjoint(const float* g, int64_t w, float* in, bool accumulate) {
+  for (int64_t k = 0; k < w; ++k) {
+    float total = 0.75f * (g[2 * k] + g[2 * k + 1]);
+    total += 0.25f * (k + 1 < w ? g[2 * k + 2] : g[2 * k + 1]);  // right neighbour's left tap
+    total += 0.25f * (k > 0 ? g[2 * k - 1] : g[2 * k]);          // left neighbour's right tap
+    store(in[k], total, accumulate);
+  }
+}
+
+// out = w0 a + w1 b over n values.
+void blend_rows(const float* __restrict a, float w0, const float* __restrict b, float w1,
+                int64_t n, float* __restrict out) {
+  for (int64_t i = 0; i < n; ++i) out[i] = w0 * a[i] + w1 * b[i];
+}
+
+// out += scale * g over n values.
+void add_scaled_row(const float* __restrict g, float scale, int64_t n, float* __restrict out) {
+  for (int64_t i = 0; i < n; ++i) out[i] += scale * g[i];
+}
+
 // Runs fn(plane index) for every (n, c) plane, in parallel.
 template <typename Fn>
 void for_each_plane(int64_t planes, int64_t plane_size, Fn fn) {
@@ -43,13 +76,12 @@ void CpuBackend::upsample_bilinear2x(const Tensor& x, const Tensor& y) {
   for_each_plane(s.n() * s.c(), oh * ow, [&](int64_t q) {
     const float* in = px + q * h * w;
     float* out = py + q * oh * ow;
+    // Separable: every input row upsampled along x once, then output rows blend two of them.
+    float* wide = thread_workspace(static_cast<size_t>(h * ow));
+    for (int64_t iy = 0; iy < h; ++iy) upsample_row(in + iy * w, w, wide + iy * ow);
     for (int64_t oy = 0; oy < oh; ++oy) {
       const Taps ty = taps(oy, h);
-      for (int64_t ox = 0; ox < ow; ++ox) {
-        const Taps tx = taps(ox, w);
-        out[oy * ow + ox] = ty.w0 * (tx.w0 * in[ty.i0 * w + tx.i0] + tx.w1 * in[ty.i0 * w + tx.i1]) +
-                            ty.w1 * (tx.w0 * in[ty.i1 * w + tx.i0] + tx.w1 * in[ty.i1 * w + tx.i1]);
-      }
+      blend_rows(wide + ty.i0 * ow, ty.w0, wide + ty.i1 * ow, ty.w1, ow, out + oy * ow);
     }
   });
 }
@@ -63,18 +95,16 @@ void CpuBackend::upsample_bilinear2x_backward(const Tensor& dy, const Tensor& dx
   for_each_plane(s.n() * s.c(), oh * ow, [&](int64_t q) {
     const float* g = pdy + q * oh * ow;
     float* out = pdx + q * h * w;
-    if (!accumulate) std::fill(out, out + h * w, 0.0f);
+    // The adjoint of the forward's two steps: rows summed into their taps, then along x.
+    float* wide = thread_workspace(static_cast<size_t>(h * ow));
+    std::fill(wide, wide + h * ow, 0.0f);
     for (int64_t oy = 0; oy < oh; ++oy) {
       const Taps ty = taps(oy, h);
-      for (int64_t ox = 0; ox < ow; ++ox) {
-        const Taps tx = taps(ox, w);
-        const float v = g[oy * ow + ox];
-        out[ty.i0 * w + tx.i0] += ty.w0 * tx.w0 * v;
-        out[ty.i0 * w + tx.i1] += ty.w0 * tx.w1 * v;
-        out[ty.i1 * w + tx.i0] += ty.w1 * tx.w0 * v;
-        out[ty.i1 * w + tx.i1] += ty.w1 * tx.w1 * v;
-      }
+      add_scaled_row(g + oy * ow, ty.w0, ow, wide + ty.i0 * ow);
+      add_scaled_row(g + oy * ow, ty.w1, ow, wide + ty.i1 * ow);
     }
+    for (int64_t iy = 0; iy < h; ++iy)
+      upsample_row_adjoint(wide + iy * ow, w, out + iy * w, accumulate);
   });
 }
 

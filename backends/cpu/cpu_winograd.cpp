@@ -8,6 +8,7 @@
 #include "backends/cpu/cpu_workspace.h"
 #include "backends/cpu/gemm.h"
 #include "core/util/parallel_for.h"
+#include "core/util/vector_clones.h"
 
 namespace facetool::cpu {
 namespace {
@@ -23,12 +24,14 @@ constexpr int64_t kTilesPerTask = 128;
 // starts at in + k * in_stride, the i-th output vector at out + i * out_stride.
 
 // out = B^T in: 6 -> 6.
+FACETOOL_VECTOR_CLONES
 void input_transform(const float* __restrict in, int64_t in_stride, float* __restrict out,
                      int64_t out_stride, int64_t n) {
   const float *d0 = in, *d1 = in + in_stride, *d2 = in + 2 * in_stride,
               *d3 = in + 3 * in_stride, *d4 = in + 4 * in_stride, *d5 = in + 5 * in_stride;
   float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
         *o3 = out + 3 * out_stride, *o4 = out + 4 * out_stride, *o5 = out + 5 * out_stride;
+  FACETOOL_NO_ALIAS_LOOP
   for (int64_t j = 0; j < n; ++j) {
     o0[j] = 4.0f * d0[j] - 5.0f * d2[j] + d4[j];
     o1[j] = -4.0f * (d1[j] + d2[j]) + d3[j] + d4[j];
@@ -40,12 +43,14 @@ void input_transform(const float* __restrict in, int64_t in_stride, float* __res
 }
 
 // out = A^T in: 6 -> 4.
+FACETOOL_VECTOR_CLONES
 void output_transform(const float* __restrict in, int64_t in_stride, float* __restrict out,
                       int64_t out_stride, int64_t n) {
   const float *m0 = in, *m1 = in + in_stride, *m2 = in + 2 * in_stride,
               *m3 = in + 3 * in_stride, *m4 = in + 4 * in_stride, *m5 = in + 5 * in_stride;
   float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
         *o3 = out + 3 * out_stride;
+  FACETOOL_NO_ALIAS_LOOP
   for (int64_t j = 0; j < n; ++j) {
     const float sum12 = m1[j] + m2[j], diff12 = m1[j] - m2[j];
     const float sum34 = m3[j] + m4[j], diff34 = m3[j] - m4[j];
@@ -67,12 +72,14 @@ void weight_transform(const double in[3], double out[6]) {
 }
 
 // out = A in: 4 -> 6, the adjoint of output_transform (for the weight gradient's dy tiles).
+FACETOOL_VECTOR_CLONES
 void output_transform_adjoint(const float* __restrict in, int64_t in_stride,
                               float* __restrict out, int64_t out_stride, int64_t n) {
   const float *d0 = in, *d1 = in + in_stride, *d2 = in + 2 * in_stride,
               *d3 = in + 3 * in_stride;
   float *o0 = out, *o1 = out + out_stride, *o2 = out + 2 * out_stride,
         *o3 = out + 3 * out_stride, *o4 = out + 4 * out_stride, *o5 = out + 5 * out_stride;
+  FACETOOL_NO_ALIAS_LOOP
   for (int64_t j = 0; j < n; ++j) {
     const float even = d0[j] + 4.0f * d2[j], odd = 2.0f * d1[j] + 8.0f * d3[j];
     o0[j] = d0[j];
@@ -135,30 +142,41 @@ void for_each_tile_row(const TileRange& r, int64_t tiles_x, Visit visit) {
   }
 }
 
-// patch[(py * 6 + px) * stride + j] = the 6x6 input patch of tile j (zero outside the image):
-// along a tile row, patch column px of consecutive tiles reads every 4th input value.
-void gather_patches(const ConvGeometry& g, int64_t tiles_x, const float* plane,
-                    const TileRange& r, int64_t stride, float* patch) {
-  for_each_tile_row(r, tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
-    for (int64_t py = 0; py < kPatch; ++py) {
-      const int64_t iy = ty * kTile - 1 + py;
-      for (int64_t px = 0; px < kPatch; ++px) {
-        float* dst = patch + (py * kPatch + px) * stride + j0 - tx0;  // dst[tx]
-        if (iy < 0 || iy >= g.height) {
-          std::fill(dst + tx0, dst + tx1, 0.0f);
-          continue;
-        }
-        // Input column of tile tx: tx * 4 + offset, inside [0, width) for tx in [lo, hi).
-        const int64_t offset = px - 1;
-        const int64_t lo = std::clamp<int64_t>((-offset + kTile - 1) / kTile, tx0, tx1);
-        const int64_t hi = std::clamp<int64_t>((g.width - offset + kTile - 1) / kTile, lo, tx1);
-        const float* row = plane + iy * g.width + offset;
-        std::fill(dst + tx0, dst + lo, 0.0f);
-        for (int64_t tx = lo; tx < hi; ++tx) dst[tx] = row[tx * kTile];
-        std::fill(dst + hi, dst + tx1, 0.0f);
-      }
+// Input rows split into their four column phases, so that patch column px of consecutive tiles
+// (input columns 4 tx + px - 1) is a contiguous run: row r (input row first_row + r), phase p,
+// entry k + 1 holds x[row][4 k + p] for k in [-1, tiles_x], 0 outside the image.
+struct PhaseRows {
+  const float* data;
+  int64_t first_row, phase_stride, row_stride;
+  // The run of patch column px for tiles tx, tx + 1, ... of patch row `row`.
+  const float* column(int64_t row, int64_t px, int64_t tx) const {
+    const int64_t u = px - 1;  // column offset from 4 tx: -1 .. 4
+    const int64_t phase = (u + kTile) % kTile, shift = u < 0 ? -1 : u / kTile;
+    return data + (row - first_row) * row_stride + phase * phase_stride + tx + shift + 1;
+  }
+};
+
+FACETOOL_VECTOR_CLONES
+void split_phases(const ConvGeometry& g, const float* plane, int64_t first_row, int64_t rows,
+                  int64_t phase_stride, float* out) {
+  for (int64_t r = 0; r < rows; ++r) {
+    const int64_t iy = first_row + r;
+    float* row_out = out + r * kTile * phase_stride;
+    if (iy < 0 || iy >= g.height) {
+      std::fill(row_out, row_out + kTile * phase_stride, 0.0f);
+      continue;
     }
-  });
+    const float* in = plane + iy * g.width;
+    for (int64_t p = 0; p < kTile; ++p) {
+      float* dst = row_out + p * phase_stride;  // dst[kk] = in[4 (kk - 1) + p]
+      // Entries kk in [1, hi) lie inside the row: 0 <= 4 (kk - 1) + p < width (kk = 0 is
+      // column p - 4 < 0).
+      const int64_t hi = std::clamp<int64_t>((g.width - p + kTile - 1) / kTile + 1, 1, phase_stride);
+      dst[0] = 0.0f;
+      for (int64_t kk = 1; kk < hi; ++kk) dst[kk] = in[kTile * (kk - 1) + p];
+      std::fill(dst + hi, dst + phase_stride, 0.0f);
+    }
+  }
 }
 
 // plane (+)= tile values tiles[(a * 4 + b) * stride + j] + bias, clipped to the image.
@@ -244,10 +262,25 @@ void transform_input_tiles(const ConvGeometry& g, const Tiling& t, const float* 
                            const TileRange& r, const TaskBuffers& b) {
   const int64_t T = kTilesPerTask;
   const int64_t channels = g.channels;
+  // The input rows under the task's tile rows, phase-split once per channel.
+  const int64_t first_ty = r.first / t.tiles_x, last_ty = (r.first + r.count - 1) / t.tiles_x;
+  PhaseRows phases;
+  phases.first_row = first_ty * kTile - 1;
+  phases.phase_stride = t.tiles_x + 2;
+  phases.row_stride = kTile * phases.phase_stride;
+  const int64_t rows = (last_ty - first_ty) * kTile + kPatch;
+  thread_local std::vector<float> phase_storage;
+  phase_storage.resize(static_cast<size_t>(rows * phases.row_stride));
+  phases.data = phase_storage.data();
   for (int64_t c = 0; c < channels; ++c) {
-    gather_patches(g, t.tiles_x, x + (r.n * channels + c) * g.height * g.width, r, T, b.patch);
-    for (int64_t s = 0; s < kPatch; ++s)  // along the patch's rows: half[i][s] = (B^T d)
-      input_transform(b.patch + s * T, kPatch * T, b.half + s * T, kPatch * T, r.count);
+    split_phases(g, x + (r.n * channels + c) * g.height * g.width, phases.first_row, rows,
+                 phases.phase_stride, phase_storage.data());
+    // Along the patch's rows: half[i][px] = (B^T d) for each patch column px.
+    for_each_tile_row(r, t.tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
+      for (int64_t px = 0; px < kPatch; ++px)
+        input_transform(phases.column(ty * kTile - 1, px, tx0), phases.row_stride,
+                        b.half + px * T + j0, kPatch * T, tx1 - tx0);
+    });
     for (int64_t i = 0; i < kPatch; ++i)  // along its columns: v[i][s'] = (B^T d B)
       input_transform(b.half + i * kPatch * T, T, b.v + (i * kPatch * channels + c) * T,
                       channels * T, r.count);
