@@ -36,8 +36,11 @@ Buffer& Tensor::buffer() const {
 
 float* Tensor::host_data() const {
   float* p = buffer().host_data();
-  check(p != nullptr, "tensor ", shape_.str(), " lives on backend '", backend().name(),
-        "' and has no host pointer; download it with to_host()");
+  // fail() directly rather than check(): this runs in every cpu op, and check() would format
+  // the shape even when the pointer is fine.
+  if (p == nullptr)
+    fail("tensor ", shape_.str(), " lives on backend '", backend().name(),
+         "' and has no host pointer; download it with to_host()");
   return p;
 }
 
