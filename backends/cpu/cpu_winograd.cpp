@@ -61,7 +61,7 @@ void output_transform(const float* __restrict in, int64_t in_stride, float* __re
   }
 }
 
-// out = G in: 3 -> 6 (in double; the weights are transformed once per call).
+// out = G in: 3 -> 6 (in double: it builds the coefficient table below).
 void weight_transform(const double in[3], double out[6]) {
   out[0] = in[0] / 4.0;
   out[1] = -(in[0] + in[1] + in[2]) / 6.0;
@@ -98,27 +98,52 @@ void weight_transform_adjoint(const double in[6], double out[3]) {
   out[2] = (in[3] + in[4] - in[1] - in[2]) / 6.0 + in[5];
 }
 
-// u[xi * Co * Ci + co * Ci + ci] = (G w[co, ci] G^T)[xi]: 36 matrices [Co, Ci].
+// (G w G^T)[i][s] = sum over taps (ky, kx) of G[i][ky] G[s][kx] w[ky][kx]: the 36 x 9
+// coefficients, computed in double from weight_transform applied to unit vectors.
+struct WeightTransformCoefficients {
+  float c[kPoints][9];
+  WeightTransformCoefficients() {
+    double g[6][3];  // G[i][k]
+    for (int k = 0; k < 3; ++k) {
+      double unit[3] = {0, 0, 0}, column[6];
+      unit[k] = 1.0;
+      weight_transform(unit, column);
+      for (int i = 0; i < 6; ++i) g[i][k] = column[i];
+    }
+    for (int i = 0; i < 6; ++i)
+      for (int s = 0; s < 6; ++s)
+        for (int ky = 0; ky < 3; ++ky)
+          for (int kx = 0; kx < 3; ++kx)
+            c[i * kPatch + s][ky * 3 + kx] = static_cast<float>(g[i][ky] * g[s][kx]);
+  }
+};
+
+// u[xi][co][ci] = (G w[co, ci] G^T)[xi]: 36 matrices [Co, Ci]. Per output channel, the 9 taps
+// are first laid out as rows over ci, so every transformed row is a vectorised sum of them.
+FACETOOL_VECTOR_CLONES
+void transform_output_channel(const float* w, int64_t co, int64_t out_channels,
+                              int64_t channels, float* taps, float* u) {
+  static const WeightTransformCoefficients coefficients;
+  for (int64_t ci = 0; ci < channels; ++ci)
+    for (int t = 0; t < 9; ++t) taps[t * channels + ci] = w[(co * channels + ci) * 9 + t];
+  for (int64_t xi = 0; xi < kPoints; ++xi) {
+    float* __restrict row = u + (xi * out_channels + co) * channels;
+    std::fill(row, row + channels, 0.0f);
+    for (int t = 0; t < 9; ++t) {
+      const float c = coefficients.c[xi][t];
+      if (c == 0.0f) continue;
+      const float* __restrict tap = taps + t * channels;
+      for (int64_t ci = 0; ci < channels; ++ci) row[ci] += c * tap[ci];
+    }
+  }
+}
+
 void transform_weights(int64_t out_channels, int64_t channels, const float* w, float* u) {
   parallel_for(out_channels, 1, [&](int64_t begin, int64_t end) {
-    for (int64_t co = begin; co < end; ++co) {
-      for (int64_t ci = 0; ci < channels; ++ci) {
-        const float* k = w + (co * channels + ci) * 9;
-        double columns[6][3];  // (G w)[i][kx]
-        for (int kx = 0; kx < 3; ++kx) {
-          const double column[3] = {k[kx], k[3 + kx], k[6 + kx]};
-          double transformed[6];
-          weight_transform(column, transformed);
-          for (int i = 0; i < 6; ++i) columns[i][kx] = transformed[i];
-        }
-        for (int i = 0; i < 6; ++i) {
-          double row[6];
-          weight_transform(columns[i], row);
-          for (int s = 0; s < 6; ++s)
-            u[((i * kPatch + s) * out_channels + co) * channels + ci] = static_cast<float>(row[s]);
-        }
-      }
-    }
+    thread_local std::vector<float> taps;
+    taps.resize(static_cast<size_t>(9 * channels));
+    for (int64_t co = begin; co < end; ++co)
+      transform_output_channel(w, co, out_channels, channels, taps.data(), u);
   });
 }
 
