@@ -246,6 +246,24 @@ void scatter_tiles(const ConvGeometry& g, int64_t tiles_x, const float* tiles, i
   });
 }
 
+// One output row read into a run of tiles: rows[b][tx] = in[4 tx + b] for tx in [tx0, tx1), 0 at
+// or past `width` (the adjoint of store_tile_row; whole tiles load 4 neighbours at a time).
+FACETOOL_VECTOR_CLONES
+void load_tile_row(const float* in, int64_t tx0, int64_t tx1, int64_t width,
+                   float* const rows[kTile]) {
+  const int64_t whole = std::clamp<int64_t>(width / kTile, tx0, tx1);
+  float *r0 = rows[0], *r1 = rows[1], *r2 = rows[2], *r3 = rows[3];
+  for (int64_t tx = tx0; tx < whole; ++tx) {
+    r0[tx] = in[4 * tx];
+    r1[tx] = in[4 * tx + 1];
+    r2[tx] = in[4 * tx + 2];
+    r3[tx] = in[4 * tx + 3];
+  }
+  for (int64_t tx = whole; tx < tx1; ++tx)
+    for (int64_t b = 0; b < kTile; ++b)
+      rows[b][tx] = kTile * tx + b < width ? in[kTile * tx + b] : 0.0f;
+}
+
 // tiles[(a * 4 + b) * stride + j] = plane at output pixel (4 ty + a, 4 tx + b) of tile j, or 0
 // past the image's edge: the adjoint of scatter_tiles.
 void gather_tiles(const ConvGeometry& g, int64_t tiles_x, const float* plane, const TileRange& r,
@@ -253,14 +271,12 @@ void gather_tiles(const ConvGeometry& g, int64_t tiles_x, const float* plane, co
   for_each_tile_row(r, tiles_x, [&](int64_t j0, int64_t ty, int64_t tx0, int64_t tx1) {
     for (int64_t a = 0; a < kTile; ++a) {
       const int64_t oy = ty * kTile + a;
-      for (int64_t b = 0; b < kTile; ++b) {
-        float* dst = tiles + (a * kTile + b) * stride + j0 - tx0;  // dst[tx]
-        const int64_t hi = oy < g.out_height
-                               ? std::clamp<int64_t>((g.out_width - b + kTile - 1) / kTile, tx0, tx1)
-                               : tx0;
-        const float* in = plane + oy * g.out_width + b;
-        for (int64_t tx = tx0; tx < hi; ++tx) dst[tx] = in[tx * kTile];
-        std::fill(dst + hi, dst + tx1, 0.0f);
+      float* rows[kTile];  // rows[b][tx]: value (a, b) of tile tx
+      for (int64_t b = 0; b < kTile; ++b) rows[b] = tiles + (a * kTile + b) * stride + j0 - tx0;
+      if (oy < g.out_height) {
+        load_tile_row(plane + oy * g.out_width, tx0, tx1, g.out_width, rows);
+      } else {
+        for (int64_t b = 0; b < kTile; ++b) std::fill(rows[b] + tx0, rows[b] + tx1, 0.0f);
       }
     }
   });
