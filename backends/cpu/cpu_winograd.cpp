@@ -282,22 +282,24 @@ void gather_tiles(const ConvGeometry& g, int64_t tiles_x, const float* plane, co
   });
 }
 
-// Per-thread buffers of one task: transformed inputs, products or dy tiles, and two [36][T]
-// staging areas.
+// Per-thread buffers of one task: transformed inputs, products or dy tiles, the 4x4 tiles of one
+// channel, and a staging area for transforms done one axis at a time.
 struct TaskBuffers {
   float* v;      // [36][Ci][T]: B^T patch B of every input channel
   float* m;      // [36][Co][T]: GEMM products (forward) or A dy A^T (weight gradient)
-  float* patch;  // [36][T]
-  float* half;   // [36][T]
+  float* tiles;  // [16][T]: one channel's output (forward) or dy (weight gradient) tiles
+  float* half;   // [36][T]: after one axis of a transform
 };
 
 TaskBuffers task_buffers(int64_t channels, int64_t out_channels) {
   const int64_t T = kTilesPerTask;
+  constexpr int64_t kTileValues = kTile * kTile;
   TaskBuffers b;
-  b.v = thread_workspace(static_cast<size_t>(kPoints * T * (channels + out_channels + 2)));
+  b.v = thread_workspace(
+      static_cast<size_t>(T * (kPoints * (channels + out_channels + 1) + kTileValues)));
   b.m = b.v + kPoints * channels * T;
-  b.patch = b.m + kPoints * out_channels * T;
-  b.half = b.patch + kPoints * T;
+  b.tiles = b.m + kPoints * out_channels * T;
+  b.half = b.tiles + kTileValues * T;
   return b;
 }
 
@@ -384,7 +386,7 @@ void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channel
         for (int64_t s = 0; s < kPatch; ++s)  // half[a][s] = (A^T m)
           output_transform(b.m + (s * out_channels + co) * T, kPatch * out_channels * T,
                            b.half + s * T, kPatch * T, r.count);
-        float* tile_values = b.patch;  // [16][T]
+        float* tile_values = b.tiles;
         for (int64_t a = 0; a < kTile; ++a)  // tile_values[a][b] = (A^T m A)
           output_transform(b.half + a * kPatch * T, T, tile_values + a * kTile * T, T, r.count);
         scatter_tiles(g, tiling.tiles_x, tile_values, T, r, bias ? bias[co] : 0.0f,
@@ -417,7 +419,7 @@ void winograd_weight_gradient(const ConvGeometry& g, int64_t batch, int64_t out_
       const TileRange r = tiling.task(task);
       transform_input_tiles(g, tiling, x, r, b);
       for (int64_t co = 0; co < out_channels; ++co) {
-        float* tile_values = b.patch;  // [16][T]
+        float* tile_values = b.tiles;
         gather_tiles(g, tiling.tiles_x, dy + (r.n * out_channels + co) * out_plane, r, T,
                      tile_values);
         for (int64_t col = 0; col < kTile; ++col)  // along the tile's rows: half[i][col]
