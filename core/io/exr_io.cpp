@@ -7,6 +7,7 @@
 
 #include "core/io/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/image_limits.h"
 
 namespace facetool {
 
@@ -41,7 +42,7 @@ std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
     fail("cannot read EXR '", path, "': ", OIIO::geterror(),
          " (a missing or damaged file: remove it and regenerate)");
   const OIIO::ImageSpec& spec = input->spec();
-  check(spec.width > 0 && spec.height > 0 && spec.nchannels > 0, "EXR '", path, "' is empty");
+  check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
   return input;
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/io/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/image_limits.h"
 
 namespace facetool {
 
@@ -30,7 +31,7 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
     fail("cannot read image '", path, "': ", OIIO::geterror(),
          " (check that the file exists and is an image OpenImageIO can read)");
   const OIIO::ImageSpec& spec = input->spec();
-  check(spec.width > 0 && spec.height > 0 && spec.nchannels > 0, "image '", path, "' is empty");
+  check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
   const int channels = spec.nchannels;
   std::vector<float> raw(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
@@ -44,8 +45,10 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   for (size_t p = 0; p < count; ++p)
     for (int c = 0; c < 3; ++c) {
       const int source_channel = channels >= 3 ? c : 0;  // grey (+ alpha) replicates channel 0
-      float value = raw[p * channels + source_channel];
-      if (!std::isfinite(value)) value = 0.0f;
+      const float value = raw[p * channels + source_channel];
+      check(std::isfinite(value), "image '", path, "' holds a NaN or infinite value at pixel (",
+            p % spec.width, ", ", p / spec.width, ") channel ", source_channel,
+            "; fix or regenerate the file");
       image.pixels[p * 3 + c] = decode_srgb ? srgb_to_linear(value) : value;
     }
   return image;

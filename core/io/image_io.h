@@ -20,7 +20,8 @@ struct RgbImage {
 
 // Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped.
 // Values are as stored: linear radiance for HDR/EXR; for 8-bit formats (sRGB-encoded) pass
-// `decode_srgb` to convert them to linear. Throws facetool::Error naming the file.
+// `decode_srgb` to convert them to linear. Throws facetool::Error naming the file, also for
+// a NaN or infinite value (naming the pixel) and for a header beyond kMaxImagePixels.
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
 
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).

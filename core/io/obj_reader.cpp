@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace {
@@ -146,12 +147,7 @@ ObjMesh parse_obj(const std::string& text, const std::string& source_name) {
 }
 
 ObjMesh read_obj(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  check(file.good(), "cannot open OBJ file '", path, "': check the path and its permissions");
-  std::ostringstream contents;
-  contents << file.rdbuf();
-  check(!file.bad(), "cannot read OBJ file '", path, "'");
-  return parse_obj(contents.str(), path);
+  return parse_obj(read_regular_input_file(path, kMaxMeshFileBytes, "OBJ file"), path);
 }
 
 }  // namespace facetool

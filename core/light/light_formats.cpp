@@ -1,6 +1,7 @@
 // Light files: reading, writing and converting facetool JSON, SfSNet text and DPR text.
 #include "core/light/light_formats.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool::light {
 namespace {
@@ -26,18 +28,73 @@ constexpr int kSfsnetToPaper[9] = {0, 2, 3, 1, 6, 7, 5, 8, 4};
 // DPR's axes in facetool's frame: x -> X, y -> -Z, z -> Y (a proper rotation).
 sh::Mat3 dpr_rotation() { return {{{1, 0, 0}, {0, 0, 1}, {0, -1, 0}}}; }
 
-std::vector<double> read_numbers(const std::string& path) {
-  std::ifstream in(path);
-  check(in.good(), "cannot read light file '", path, "': no such file or not readable");
-  std::vector<double> values;
-  std::string token;
-  while (in >> token) {
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    check(end && *end == '\0', "light file '", path, "': '", token, "' is not a number");
-    check(std::isfinite(v), "light file '", path, "' holds a non-finite value (", token, ")");
-    values.push_back(v);
+// The numbers of a light text file, one vector per non-empty line.
+std::vector<std::vector<double>> read_rows(const std::string& path) {
+  std::istringstream in(read_regular_input_file(path, kMaxTextFileBytes, "light file"));
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    line = line.substr(0, line.find('#'));
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream words(line);
+    std::vector<double> row;
+    std::string token;
+    while (words >> token) {
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      check(end && *end == '\0', "light file '", path, "' line ", line_number, ": '", token,
+            "' is not a number");
+      check(std::isfinite(v), "light file '", path, "' line ", line_number,
+            " holds a non-finite value (", token, ")");
+      row.push_back(v);
+    }
+    if (!row.empty()) rows.push_back(std::move(row));
   }
+  return rows;
+}
+
+bool has_shape(const std::vector<std::vector<double>>& rows, size_t count, size_t width) {
+  if (rows.size() != count) return false;
+  for (const auto& row : rows)
+    if (row.size() != width) return false;
+  return true;
+}
+
+size_t number_count(const std::vector<std::vector<double>>& rows) {
+  size_t count = 0;
+  for (const auto& row : rows) count += row.size();
+  return count;
+}
+
+std::string shape_text(const std::vector<std::vector<double>>& rows) {
+  std::string widths;
+  for (const auto& row : rows) widths += (widths.empty() ? "" : ",") + std::to_string(row.size());
+  return std::to_string(number_count(rows)) + " numbers on " + std::to_string(rows.size()) +
+         " lines (numbers per line: " + widths + ")";
+}
+
+constexpr const char* kTextShapes =
+    "27 numbers as 9 lines of 'R G B' (rgb-table, facetool's coefficients) or as 3 lines of 9 "
+    "(sfsnet), or 9 numbers (dpr)";
+
+// The format a text file's shape stands for; throws when no single format fits.
+Format format_of_shape(const std::vector<std::vector<double>>& rows, const std::string& path) {
+  if (has_shape(rows, 9, 3)) return Format::RgbTable;
+  if (has_shape(rows, 3, 9)) return Format::Sfsnet;
+  if (has_shape(rows, 9, 1) || has_shape(rows, 1, 9)) return Format::Dpr;
+  if (number_count(rows) == 27)
+    fail("light file '", path, "' holds ", shape_text(rows), ": that layout could be facetool's ",
+         "R G B rows or SfSNet's channels; write it as ", kTextShapes,
+         ", or name the format (--from / --light-format sfsnet or rgb-table)");
+  fail("light file '", path, "' holds ", shape_text(rows), "; expected ", kTextShapes,
+       ", or a facetool .json file");
+}
+
+std::vector<double> flattened(const std::vector<std::vector<double>>& rows) {
+  std::vector<double> values;
+  for (const auto& row : rows) values.insert(values.end(), row.begin(), row.end());
   return values;
 }
 
@@ -81,7 +138,8 @@ Format format_from_name(const std::string& name) {
   if (name == "facetool") return Format::Facetool;
   if (name == "sfsnet") return Format::Sfsnet;
   if (name == "dpr") return Format::Dpr;
-  fail("unknown light format '", name, "'; use facetool, sfsnet or dpr");
+  if (name == "rgb-table") return Format::RgbTable;
+  fail("unknown light format '", name, "'; use facetool, sfsnet, dpr or rgb-table");
 }
 
 const char* format_name(Format format) {
@@ -89,17 +147,14 @@ const char* format_name(Format format) {
     case Format::Facetool: return "facetool";
     case Format::Sfsnet: return "sfsnet";
     case Format::Dpr: return "dpr";
+    case Format::RgbTable: return "rgb-table";
   }
   return "?";
 }
 
 Format guess_format(const std::string& path) {
   if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) return Format::Facetool;
-  const size_t count = read_numbers(path).size();
-  if (count == 27) return Format::Sfsnet;
-  if (count == 9) return Format::Dpr;
-  fail("light file '", path, "' holds ", count, " numbers: expected 27 (SfSNet RGB) or 9 (DPR ",
-       "grey), or a facetool .json file");
+  return format_of_shape(read_rows(path), path);
 }
 
 sh::RgbLight from_sfsnet(const std::array<double, 27>& values) {
@@ -193,11 +248,10 @@ LightFile read_light(const std::string& path, const Format* format) {
   const Format f = format ? *format : guess_format(path);
   LightFile file;
   if (f == Format::Facetool) {
-    std::ifstream in(path);
-    check(in.good(), "cannot read light file '", path, "': no such file or not readable");
+    const std::string text = read_regular_input_file(path, kMaxTextFileBytes, "light file");
     nlohmann::json j;
     try {
-      j = nlohmann::json::parse(in);
+      j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
       fail("light file '", path, "' is not valid JSON: ", e.what());
     }
@@ -224,10 +278,18 @@ LightFile read_light(const std::string& path, const Format* format) {
                                                          : it.value().dump();
     return file;
   }
-  const std::vector<double> values = read_numbers(path);
-  if (f == Format::Sfsnet) {
-    check(values.size() == 27, "light file '", path, "' holds ", values.size(),
-          " numbers; an SfSNet light has 27");
+  const std::vector<std::vector<double>> rows = read_rows(path);
+  const std::vector<double> values = flattened(rows);
+  // A named format is trusted for layouts of its own size, except the one layout that belongs
+  // to the other 27-number format (9 lines of 3 is never SfSNet, 3 lines of 9 never a table).
+  if (f == Format::RgbTable) {
+    check(has_shape(rows, 9, 3), "light file '", path, "' holds ", shape_text(rows),
+          "; an rgb-table light is 9 lines of 'R G B'");
+    for (int i = 0; i < sh::kCoeffCount; ++i)
+      for (int c = 0; c < 3; ++c) file.light[c * sh::kCoeffCount + i] = rows[i][c];
+  } else if (f == Format::Sfsnet) {
+    check(values.size() == 27 && !has_shape(rows, 9, 3), "light file '", path, "' holds ",
+          shape_text(rows), "; an SfSNet light has 27 numbers, written as 3 lines of 9");
     std::array<double, 27> a;
     std::copy(values.begin(), values.end(), a.begin());
     file.light = from_sfsnet(a);
@@ -260,6 +322,11 @@ void write_light(const std::string& path, const LightFile& file, Format format) 
   } else if (format == Format::Sfsnet) {
     const auto values = to_sfsnet(file.light);
     write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 9));
+  } else if (format == Format::RgbTable) {
+    std::vector<double> rows;
+    for (int i = 0; i < sh::kCoeffCount; ++i)
+      for (int c = 0; c < 3; ++c) rows.push_back(file.light[c * sh::kCoeffCount + i]);
+    write_text_atomically(path, text_of(rows, 3));
   } else {
     const auto values = to_dpr(file.light);
     write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 1));

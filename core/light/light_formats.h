@@ -17,11 +17,18 @@ namespace facetool::light {
 //   shading is sum_i s_i A_l Y_i(n) and its image albedo * shading (no 1/pi).
 // DPR text: 9 numbers (grey), one per line, in the paper's order, same attenuated basis as
 //   SfSNet, in DPR's camera frame (x right, z up, -y towards the viewer).
-enum class Format { Facetool, Sfsnet, Dpr };
+// RGB table text: facetool's own coefficients (as in the JSON) as 9 lines of "R G B", line i
+//   holding coefficient i of each channel (the SH text `synth --lights` has always read).
+// Text files may use commas as separators and '#' comments. Their shape decides the format, so
+// that no layout is ever read as another: 9 lines of 3 = rgb-table, 3 lines of 9 = sfsnet
+// (as `light convert --to sfsnet` writes it), 9 numbers (one line or one per line) = dpr; 27
+// numbers in any other layout are ambiguous and refused unless the format is given.
+enum class Format { Facetool, Sfsnet, Dpr, RgbTable };
 
-Format format_from_name(const std::string& name);  // "facetool" | "sfsnet" | "dpr"
+Format format_from_name(const std::string& name);  // "facetool" | "sfsnet" | "dpr" | "rgb-table"
 const char* format_name(Format format);
-// By extension and content: .json -> facetool; text with 27 numbers -> sfsnet, 9 -> dpr.
+// By extension and content: .json -> facetool; text by its shape (see above). Throws
+// facetool::Error naming the file and the shapes it accepts when the shape is ambiguous.
 Format guess_format(const std::string& path);
 
 struct LightFile {

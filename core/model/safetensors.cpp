@@ -8,10 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "core/io/atomic_file.h"
+#include "core/util/file_checks.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -36,11 +38,8 @@ uint64_t read_u64_le(const uint8_t* p) {
 }  // namespace
 
 SafeTensors SafeTensors::read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  check(in.good(), "cannot open weights file '", path, "': ",
-        std::filesystem::exists(path) ? "permission denied or not a file" : "no such file");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse(bytes.data(), bytes.size(), path);
+  const std::string bytes = read_regular_input_file(path, kMaxWeightsFileBytes, "weights file");
+  return parse(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
 }
 
 SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::string& what) {
@@ -52,11 +51,27 @@ SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::str
     bad("header length ", header_len, " runs past the end of the file (", size, " bytes); ",
         "the file is truncated");
   nlohmann::json header;
+  // JSON would silently keep the last of two equal keys; safetensors forbids them, so each
+  // object's keys are collected while parsing.
+  std::vector<std::set<std::string>> keys_of_open_objects;
+  std::string duplicate;
+  const nlohmann::json::parser_callback_t track_keys =
+      [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        if (event == nlohmann::json::parse_event_t::object_start) keys_of_open_objects.emplace_back();
+        if (event == nlohmann::json::parse_event_t::object_end && !keys_of_open_objects.empty())
+          keys_of_open_objects.pop_back();
+        if (event == nlohmann::json::parse_event_t::key && !keys_of_open_objects.empty() &&
+            !keys_of_open_objects.back().insert(parsed.get<std::string>()).second &&
+            duplicate.empty())
+          duplicate = parsed.get<std::string>();
+        return true;
+      };
   try {
-    header = nlohmann::json::parse(bytes + 8, bytes + 8 + header_len);
+    header = nlohmann::json::parse(bytes + 8, bytes + 8 + header_len, track_keys);
   } catch (const nlohmann::json::exception& e) {
     bad("the JSON header does not parse (", e.what(), ")");
   }
+  if (!duplicate.empty()) bad("the JSON header holds the key '", duplicate, "' twice");
   if (!header.is_object()) bad("the JSON header is not an object");
 
   SafeTensors st;
@@ -113,6 +128,15 @@ SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::str
   std::sort(ranges.begin(), ranges.end());
   for (size_t i = 1; i < ranges.size(); ++i)
     if (ranges[i].first < ranges[i - 1].second) bad("two tensors share data bytes");
+  // The format requires the tensors to cover the data bytes exactly: no holes, nothing after.
+  uint64_t covered = 0;
+  for (const auto& [begin, end] : ranges) {
+    if (begin != covered) bad("data bytes ", covered, "..", begin, " belong to no tensor");
+    covered = end;
+  }
+  if (covered != data_size)
+    bad(data_size - covered, " trailing bytes after the last tensor's data (", data_size,
+        " data bytes, ", covered, " used)");
   st.data_.assign(bytes + 8 + header_len, bytes + size);
   return st;
 }

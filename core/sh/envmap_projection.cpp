@@ -7,6 +7,7 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/image_limits.h"
 
 namespace facetool::sh {
 namespace {
@@ -21,7 +22,7 @@ EnvironmentMap read_environment_map(const std::string& path) {
   }
   const OIIO::ImageSpec& spec = input->spec();
   const int channels = spec.nchannels;
-  check(spec.width > 0 && spec.height > 0, "environment map '", path, "' is empty");
+  check_image_dimensions(path, spec.width, spec.height, channels, "environment map");
   check(channels == 1 || channels >= 3, "environment map '", path, "' has ", channels,
         " channels; give a grey (1) or RGB(A) (3 or more) image");
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);

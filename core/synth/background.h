@@ -19,6 +19,7 @@ class BackgroundSource {
 
   bool uses_images() const { return !images_.empty(); }
   size_t image_count() const { return images_.size(); }
+  const std::vector<std::string>& images() const { return images_; }
 
   // Fills planar RGB `rgb[3][w*h]` (linear, clamped to [0, 1]) for the camera. Environment
   // views show what the camera sees of the light: the panorama turned by `light.rotation`,

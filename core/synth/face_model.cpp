@@ -11,6 +11,7 @@
 
 #include "core/io/obj_reader.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -35,11 +36,10 @@ int identity_number(const std::string& file_name) {
 // The integer list after "idx_to_landmark_verts" in vertex_indices.json (no JSON library
 // needed for one flat array); empty when the file or key is absent.
 std::vector<int32_t> read_landmark_vertices(const fs::path& json_path) {
-  std::ifstream file(json_path);
-  if (!file) return {};
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  const std::string text = buffer.str();
+  std::error_code error;
+  if (!fs::exists(json_path, error)) return {};
+  const std::string text =
+      read_regular_input_file(json_path.string(), kMaxTextFileBytes, "ICT landmark file");
   const size_t key = text.find("\"idx_to_landmark_verts\"");
   if (key == std::string::npos) return {};
   const size_t open = text.find('[', key), close = text.find(']', key);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/light/light_formats.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_rotation.h"
@@ -50,8 +51,13 @@ LightSource load_light_file(const fs::path& path) {
     source.light = read_sh_light_file(path.string());
   } else {
     auto map = std::make_shared<sh::EnvironmentMap>(sh::read_environment_map(path.string()));
-    for (float& value : map->rgb)
-      if (!std::isfinite(value) || value < 0.0f) value = 0.0f;
+    for (size_t i = 0; i < map->rgb.size(); ++i) {
+      float& value = map->rgb[i];
+      check(std::isfinite(value), "environment map '", path.string(),
+            "' holds a NaN or infinite value at pixel (", (i / 3) % map->width, ", ",
+            (i / 3) / map->width, "); fix the map or remove it from the lights");
+      if (value < 0.0f) value = 0.0f;  // negative radiance: none
+    }
     source.light = sh::project_environment_map(*map);
     source.environment = std::move(map);
   }
@@ -66,29 +72,8 @@ LightSource load_light_file(const fs::path& path) {
 }  // namespace
 
 sh::RgbLight read_sh_light_file(const std::string& path) {
-  std::ifstream file(path);
-  check(file.good(), "cannot open SH light file '", path, "'");
-  std::vector<double> values;
-  std::string line;
-  while (std::getline(file, line)) {
-    line = line.substr(0, line.find('#'));
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream words(line);
-    std::string word;
-    while (words >> word) {
-      char* end = nullptr;
-      const double value = std::strtod(word.c_str(), &end);
-      check(end != word.c_str() && *end == '\0' && std::isfinite(value), "SH light file '", path,
-            "': '", word, "' is not a number; write 9 lines of 'R G B' coefficients");
-      values.push_back(value);
-    }
-  }
-  check(values.size() == sh::kLightCoeffCount, "SH light file '", path, "' holds ",
-        values.size(), " numbers; an SH light needs 27: 9 lines of 'R G B' coefficients");
-  sh::RgbLight light{};
-  for (int i = 0; i < sh::kCoeffCount; ++i)
-    for (int c = 0; c < 3; ++c) light[c * sh::kCoeffCount + i] = values[i * 3 + c];
-  return light;
+  // One reader for every light text layout, each recognised by its shape (never misread).
+  return light::read_light(path).light;
 }
 
 sh::RgbLight make_light_nonnegative(const sh::RgbLight& light) {

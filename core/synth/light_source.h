@@ -28,8 +28,10 @@ extern const char* const kBlenderStudioLightsDir;
 // or saying where to find lights when none are found.
 std::vector<LightSource> load_light_sources(const std::vector<std::string>& paths);
 
-// An SH light file: 27 numbers (whitespace or commas; '#' starts a comment) read as 9 rows of
-// "R G B", row i holding coefficient i (sh_basis.h order) of each channel.
+// An SH light text file in any layout core/light/light_formats.h recognises by its shape:
+// 9 rows of "R G B" (row i holding coefficient i, sh_basis.h order, of each channel), SfSNet's
+// 3 rows of 9 (converted), DPR's 9 numbers; whitespace or commas, '#' comments. Any other
+// layout, including 27 numbers on one line, is refused with the file's name.
 sh::RgbLight read_sh_light_file(const std::string& path);
 
 // Projection of max(0, L) once more when L dips below zero anywhere, then (if rounding leaves a

@@ -1,6 +1,8 @@
 // SplitMix64 and xoshiro256** (public-domain algorithms by Vigna), Box-Muller normals.
 #include "core/synth/random.h"
 
+#include "core/util/error.h"
+
 #include <cmath>
 
 namespace facetool {
@@ -57,7 +59,11 @@ double Random::normal() {
 }
 
 double Random::truncated_normal(double limit) {
-  if (limit <= 0.0) return normal();
+  // Rejection needs about 1 / P(|x| <= limit) draws: bounded for limit >= kMinTruncation
+  // (acceptance 0.8%), endless for NaN or a vanishing limit, which are refused.
+  check(!std::isnan(limit) && (limit <= 0.0 || limit >= kMinTruncation),
+        "truncated normal: limit ", limit, " is NaN or below ", kMinTruncation);
+  if (limit <= 0.0 || std::isinf(limit)) return normal();
   for (;;) {
     const double value = normal();
     if (std::fabs(value) <= limit) return value;

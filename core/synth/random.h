@@ -25,6 +25,8 @@ class Random {
   // Standard normal by Box-Muller (one value per call, no caching: streams stay simple).
   double normal();
   // Standard normal restricted to [-limit, limit] by resampling (limit <= 0: no limit).
+  // Throws facetool::Error for NaN and for 0 < limit < kMinTruncation (it would never end).
+  static constexpr double kMinTruncation = 0.01;
   double truncated_normal(double limit);
   bool bernoulli(double probability) { return uniform() < probability; }
 

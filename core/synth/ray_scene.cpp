@@ -109,15 +109,16 @@ uint32_t RayScene::occluded16(const Packet16& packet, float tnear) const {
   RTCRay16 rays;
   const float infinity = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 16; ++k) {
+    // Inactive lanes are masked (valid 0) and still get a finite ray: Embree may read them.
     const bool used = (packet.active >> k) & 1u;
     valid[k] = used ? -1 : 0;
-    rays.org_x[k] = packet.org_x[k];
-    rays.org_y[k] = packet.org_y[k];
-    rays.org_z[k] = packet.org_z[k];
+    rays.org_x[k] = used ? packet.org_x[k] : 0.0f;
+    rays.org_y[k] = used ? packet.org_y[k] : 0.0f;
+    rays.org_z[k] = used ? packet.org_z[k] : 0.0f;
     rays.tnear[k] = tnear;
-    rays.dir_x[k] = packet.dir_x[k];
-    rays.dir_y[k] = packet.dir_y[k];
-    rays.dir_z[k] = packet.dir_z[k];
+    rays.dir_x[k] = used ? packet.dir_x[k] : 0.0f;
+    rays.dir_y[k] = used ? packet.dir_y[k] : 0.0f;
+    rays.dir_z[k] = used ? packet.dir_z[k] : 1.0f;
     rays.time[k] = 0.0f;
     rays.tfar[k] = infinity;
     rays.mask[k] = 0xFFFFFFFFu;

@@ -28,8 +28,8 @@ class RayScene {
 
   // Up to 16 rays as structure-of-arrays; lane k is used when bit k of `active` is set.
   struct Packet16 {
-    alignas(64) float org_x[16], org_y[16], org_z[16];
-    alignas(64) float dir_x[16], dir_y[16], dir_z[16];
+    alignas(64) float org_x[16] = {}, org_y[16] = {}, org_z[16] = {};
+    alignas(64) float dir_x[16] = {}, dir_y[16] = {}, dir_z[16] = {};
     uint32_t active = 0;
   };
   // Occlusion between distance `tnear` and infinity, as one incoherent rtcOccluded16 call.

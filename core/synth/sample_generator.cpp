@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "core/synth/gbuffer.h"
+#include "core/synth/generator_settings.h"
 #include "core/synth/ray_scene.h"
 #include "core/util/error.h"
 
@@ -107,6 +108,8 @@ SampleGenerator::SampleGenerator(FaceSource faces, std::vector<LightSource> ligh
   check(renderer_ != nullptr, "SampleGenerator: no renderer");
   check(settings_.camera.width > 0 && settings_.camera.height > 0, "image size must be positive, got ",
         settings_.camera.width, "x", settings_.camera.height);
+  settings_description_ = describe_generator_settings(*this);
+  settings_fingerprint_ = facetool::settings_fingerprint(settings_description_);
 }
 
 SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
@@ -115,6 +118,7 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   s.run_seed = run_seed;
   s.index = index;
   s.sample_seed = derive_seed(run_seed, static_cast<uint64_t>(index));
+  s.settings = settings_fingerprint_;
   auto stream = [&](Stream which) { return Random(derive_seed(s.sample_seed, which)); };
   const double start = thread_cpu_seconds();
   auto since = [](double begin) { return thread_cpu_seconds() - begin; };

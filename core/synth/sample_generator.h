@@ -48,6 +48,12 @@ class SampleGenerator {
   const SynthSettings& settings() const { return settings_; }
   const std::vector<LightSource>& lights() const { return lights_; }
   const ComponentRenderer& renderer() const { return *renderer_; }
+  const FaceSource& faces() const { return faces_; }
+  const BackgroundSource& backgrounds() const { return backgrounds_; }
+  // describe_generator_settings(*this) (generator_settings.h) and its fingerprint, which every
+  // generated sample carries so that a resumed run can tell whether it was made the same way.
+  const std::string& settings_description() const { return settings_description_; }
+  const std::string& settings_fingerprint() const { return settings_fingerprint_; }
 
  private:
   FaceSource faces_;
@@ -57,6 +63,8 @@ class SampleGenerator {
   SynthSettings settings_;
   AlbedoModel albedo_model_;
   VisibilitySampler visibility_;
+  std::string settings_description_;
+  std::string settings_fingerprint_;
 };
 
 }  // namespace facetool

@@ -90,7 +90,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
 
   SynthRunReport report;
   std::atomic<size_t> next{0};
-  std::atomic<int64_t> generated{0}, reused{0}, rays{0}, done{0};
+  std::atomic<int64_t> generated{0}, reused{0}, repaired{0}, rays{0}, done{0};
   std::atomic<bool> stop{false};
   std::exception_ptr first_error;
   std::mutex mutex;
@@ -103,20 +103,42 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
         const std::string path = (fs::path(options.output_dir) / synth_sample_file_name(index)).string();
         bool have = false;
         if (fs::exists(path)) {
+          // A present sample is kept only when it was made the same way (its metadata) and
+          // is whole (all pixels decode); a damaged one is made again; one made with other
+          // settings is an error, or is made again with options.overwrite.
           SynthSampleInfo info;
           bool readable = true;
           try {
             info = read_synth_sample_info(path);
           } catch (const Error&) {
-            readable = false;  // damaged: make it again
+            readable = false;
           }
-          if (readable) {
-            check(info.run_seed == options.seed && info.index == index &&
-                      info.generator_version == kSynthGeneratorVersion && info.width == width &&
-                      info.height == height,
-                  "output folder '", options.output_dir, "' already holds ", path,
-                  " from another run (seed ", info.run_seed, ", ", info.width, "x", info.height,
-                  ", ", info.generator_version, "); use a new folder or the same settings");
+          const bool same_run = readable && info.run_seed == options.seed &&
+                                info.index == index &&
+                                info.generator_version == kSynthGeneratorVersion &&
+                                info.width == width && info.height == height &&
+                                info.settings == generator.settings_fingerprint();
+          if (readable && !same_run && !options.overwrite)
+            fail("output folder '", options.output_dir, "' already holds ", path,
+                 " made with other settings (seed ", info.run_seed, ", ", info.width, "x",
+                 info.height, ", ", info.generator_version, ", settings ",
+                 info.settings.empty() ? "not recorded" : info.settings, "; this run: seed ",
+                 options.seed, ", ", width, "x", height, ", settings ",
+                 generator.settings_fingerprint(),
+                 ", listed in the manifest); use a new folder, the same settings, or "
+                 "--overwrite to regenerate such samples");
+          bool whole = false;
+          if (same_run) {
+            try {
+              read_synth_sample(path);
+              whole = true;
+            } catch (const Error&) {
+              ++repaired;  // truncated or damaged pixels: make it again
+            }
+          } else if (!readable) {
+            ++repaired;
+          }
+          if (whole) {
             infos[position] = info;
             have = true;
             ++reused;
@@ -154,6 +176,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   if (first_error) std::rethrow_exception(first_error);
   report.generated = generated;
   report.reused = reused;
+  report.repaired = repaired;
   report.rays_cast = rays;
 
   // Manifest of this shard.
@@ -162,7 +185,10 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
            << options.seed << ", count " << options.count << ", shard " << options.shard_index
            << "/" << options.shard_count << ", " << width << "x" << height << ", "
            << generator.settings().direction_count << " visibility directions\n"
-           << "file\tindex\tsample_seed\troll_deg\tpitch_deg\tyaw_deg\tfov_deg\tlight_source\n";
+           << "# settings " << generator.settings_fingerprint() << ":\n";
+  std::istringstream description(generator.settings_description());
+  for (std::string line; std::getline(description, line);) manifest << "#   " << line << "\n";
+  manifest << "file\tindex\tsample_seed\troll_deg\tpitch_deg\tyaw_deg\tfov_deg\tlight_source\n";
   for (size_t k = 0; k < indices.size(); ++k)
     manifest << manifest_line(synth_sample_file_name(indices[k]), infos[k]);
   char manifest_name[64];

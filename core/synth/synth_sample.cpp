@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/io/exr_io.h"
 #include "core/util/error.h"
@@ -68,9 +69,14 @@ const std::vector<ChannelGroup>& channel_groups() {
 // Fills the common fields of `info`-like metadata from `image`.
 void read_info(const LayeredImage& image, const std::string& source, SynthSampleInfo& info) {
   info.generator_version = require(image, "generator_version", source);
-  info.run_seed = std::stoull(require(image, "seed", source));
-  info.sample_seed = std::stoull(require(image, "sample_seed", source));
-  info.index = std::stoll(require(image, "sample_index", source));
+  try {
+    info.run_seed = std::stoull(require(image, "seed", source));
+    info.sample_seed = std::stoull(require(image, "sample_seed", source));
+    info.index = std::stoll(require(image, "sample_index", source));
+  } catch (const std::logic_error&) {  // invalid_argument, out_of_range: damaged metadata
+    fail("sample '", source, "': its seed or index metadata is not a number");
+  }
+  if (const std::string* settings = image.find_metadata(key("settings"))) info.settings = *settings;
   const auto pose = parse_numbers(require(image, "pose_deg", source), 3, "pose_deg", source);
   info.pose = {pose[0], pose[1], pose[2]};
   info.fov_deg = parse_numbers(require(image, "fov_deg", source), 1, "fov_deg", source)[0];
@@ -110,6 +116,7 @@ LayeredImage synth_sample_to_image(const SynthSample& s) {
   image.set_metadata(key("fov_deg"), format_numbers(&s.fov_deg, 1));
   image.set_metadata(key("light_source"), s.light_source);
   image.set_metadata(key("shape"), s.shape);
+  image.set_metadata(key("settings"), s.settings);
   image.set_metadata(key("layout"),
                      "light_sh: 27 SH coefficients, channel-major R0..R8 G0..G8 B0..B8; "
                      "pose_deg: roll pitch yaw; camera at (0,0,5.8) looking down -Z; "
@@ -144,6 +151,7 @@ SynthSample synth_sample_from_image(const LayeredImage& image, const std::string
                                     "light_sh", source);
   std::copy(light.begin(), light.end(), s.light.begin());
   if (const std::string* shape = image.find_metadata(key("shape"))) s.shape = *shape;
+  s.settings = info.settings;
   return s;
 }
 

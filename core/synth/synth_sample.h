@@ -34,6 +34,7 @@ struct SynthSample {
   uint64_t sample_seed = 0;       // derive_seed(run_seed, index)
   std::string light_source;       // file the light came from
   std::string shape;              // "identity[...] expressions[name=weight ...]" for people
+  std::string settings;           // fingerprint of the generator settings (generator_settings.h)
   int64_t rays_cast = 0;          // visibility rays (not stored)
   // Where the time went, in thread CPU seconds (not stored): shape + pose + BVH + primary rays, visibility rays,
   // albedo + light + rendering + background.
@@ -63,6 +64,7 @@ struct SynthSampleInfo {
   HeadPose pose;
   double fov_deg = 0;
   std::string light_source;
+  std::string settings;  // "" in samples written before settings were recorded
 };
 SynthSampleInfo read_synth_sample_info(const std::string& path);
 

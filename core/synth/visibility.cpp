@@ -1,6 +1,8 @@
 // Hemisphere-only ray casting in packets of 16 and SH accumulation of the open directions.
 #include "core/synth/visibility.h"
 
+#include <cmath>
+
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"
 #include "core/util/error.h"
@@ -28,30 +30,32 @@ int64_t VisibilitySampler::integrate(const RayScene& scene, Vec3f p, Vec3f n, fl
 int64_t VisibilitySampler::integrate_group(const RayScene& scene, const Vec3f* p, const Vec3f* n,
                                            int count, float offset, float* out) const {
   check(count >= 1 && count <= 16, "integrate_group: 1..16 points, got ", count);
+  // Every lane of the packet is written before every call: a lane that is not cast in this
+  // packet (beyond `count`, or facing away from the direction) holds a harmless finite ray
+  // (origin 0, direction +Z) and is masked off, so Embree never reads uninitialised memory.
   RayScene::Packet16 packet;
-  for (int k = 0; k < count; ++k) {
-    const Vec3f origin = p[k] + n[k] * offset;
-    packet.org_x[k] = origin.x;
-    packet.org_y[k] = origin.y;
-    packet.org_z[k] = origin.z;
-  }
-  for (int k = count; k < 16; ++k) {
-    packet.org_x[k] = packet.org_y[k] = packet.org_z[k] = 0.0f;
-    packet.dir_x[k] = packet.dir_y[k] = 0.0f;
-    packet.dir_z[k] = 1.0f;
-  }
+  Vec3f origins[16];
+  for (int k = 0; k < 16; ++k) origins[k] = k < count ? p[k] + n[k] * offset : Vec3f{0, 0, 0};
+  for (int k = 0; k < count; ++k)
+    check(std::isfinite(origins[k].x) && std::isfinite(origins[k].y) &&
+              std::isfinite(origins[k].z) && std::isfinite(n[k].x) && std::isfinite(n[k].y) &&
+              std::isfinite(n[k].z),
+          "integrate_group: point ", k, " has a non-finite position or normal");
   double sum[16][9] = {};
   int64_t cast = 0;
   const int directions = direction_count();
   for (int s = 0; s < directions; ++s) {
     const float dx = dir_x_[s], dy = dir_y_[s], dz = dir_z_[s];
     uint32_t active = 0;
-    for (int k = 0; k < count; ++k) {
-      if (dx * n[k].x + dy * n[k].y + dz * n[k].z <= 0.0f) continue;  // below: occluded
-      active |= 1u << k;
-      packet.dir_x[k] = dx;
-      packet.dir_y[k] = dy;
-      packet.dir_z[k] = dz;
+    for (int k = 0; k < 16; ++k) {
+      const bool cast_here = k < count && dx * n[k].x + dy * n[k].y + dz * n[k].z > 0.0f;
+      if (cast_here) active |= 1u << k;  // below the surface: occluded, not cast
+      packet.org_x[k] = cast_here ? origins[k].x : 0.0f;
+      packet.org_y[k] = cast_here ? origins[k].y : 0.0f;
+      packet.org_z[k] = cast_here ? origins[k].z : 0.0f;
+      packet.dir_x[k] = cast_here ? dx : 0.0f;
+      packet.dir_y[k] = cast_here ? dy : 0.0f;
+      packet.dir_z[k] = cast_here ? dz : 1.0f;
     }
     if (!active) continue;
     packet.active = active;

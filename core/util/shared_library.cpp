@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "core/util/elf_check.h"
 #include "core/util/error.h"
 
 namespace facetool {
 
 SharedLibrary SharedLibrary::open(const std::string& path) {
   check(std::filesystem::exists(path), "cannot load '", path, "': no such file");
+  check_loadable_elf_file(path);  // a truncated library would crash dlopen (SIGBUS)
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* why = dlerror();

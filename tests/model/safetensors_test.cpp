@@ -150,6 +150,71 @@ TEST(SafeTensors, AbsurdHeaderSizesAndOffsets) {
   EXPECT_NE(parse_error(make_file({{"__metadata__", {{"k", 3}}}}, data)), "");
 }
 
+// A header given as raw text, so that it can hold what nlohmann::json cannot (duplicate keys).
+std::vector<uint8_t> make_raw_file(const std::string& text, const std::vector<uint8_t>& data) {
+  std::vector<uint8_t> out(8 + text.size() + data.size());
+  for (int i = 0; i < 8; ++i) out[i] = uint8_t(uint64_t(text.size()) >> (8 * i));
+  std::copy(text.begin(), text.end(), out.begin() + 8);
+  std::copy(data.begin(), data.end(), out.begin() + 8 + text.size());
+  return out;
+}
+
+// Issue 10: JSON keeps the last of two equal keys and ignores bytes no tensor names; the
+// safetensors format forbids both, so both are refused, at any nesting level.
+TEST(SafeTensors, DuplicateKeysAreRefused) {
+  const std::vector<uint8_t> data(8);
+  const std::string w = R"("w":{"dtype":"F32","shape":[2],"data_offsets":[0,8]})";
+  EXPECT_EQ(parse_error(make_raw_file("{" + w + "}", data)), "");  // the control parses
+  const std::string twice = parse_error(make_raw_file("{" + w + "," + w + "}", data));
+  EXPECT_NE(twice.find("'w' twice"), std::string::npos) << twice;
+  const std::string field = parse_error(make_raw_file(
+      R"({"w":{"dtype":"F32","shape":[2],"data_offsets":[0,8],"dtype":"F32"}})", data));
+  EXPECT_NE(field.find("'dtype' twice"), std::string::npos) << field;
+  const std::string meta = parse_error(
+      make_raw_file(R"({"__metadata__":{"a":"1","a":"2"},)" + w + "}", data));
+  EXPECT_NE(meta.find("'a' twice"), std::string::npos) << meta;
+  EXPECT_NE(meta.find("test.safetensors"), std::string::npos) << meta;
+}
+
+TEST(SafeTensors, TrailingBytesAndHolesAreRefused) {
+  SafeTensorsWriter writer;
+  writer.add("a", {2}, {1, 2});
+  writer.add("b", {1}, {3});
+  std::vector<uint8_t> bytes = writer.serialize();
+  EXPECT_EQ(parse_error(bytes), "");
+  for (size_t extra : {1, 4, 1000}) {
+    std::vector<uint8_t> longer = bytes;
+    longer.insert(longer.end(), extra, 0);
+    const std::string message = parse_error(longer);
+    EXPECT_NE(message.find(std::to_string(extra) + " trailing bytes"), std::string::npos)
+        << message;
+  }
+  // A hole between two tensors.
+  nlohmann::json holed = {{"a", {{"dtype", "F32"}, {"shape", {1}}, {"data_offsets", {0, 4}}}},
+                          {"b", {{"dtype", "F32"}, {"shape", {1}}, {"data_offsets", {8, 12}}}}};
+  EXPECT_NE(parse_error(make_file(holed, std::vector<uint8_t>(12))).find("belong to no tensor"),
+            std::string::npos);
+}
+
+// Only regular files are read: a folder and an endless device give a clear message at once.
+TEST(SafeTensors, FoldersAndDevicesAreRefusedByName) {
+  const std::string folder = std::filesystem::temp_directory_path().string();
+  try {
+    SafeTensors::read_file(folder);
+    FAIL() << "a folder was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+  }
+  if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero on this system";
+  try {
+    SafeTensors::read_file("/dev/zero");
+    FAIL() << "/dev/zero was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'/dev/zero' is not a regular file"), std::string::npos)
+        << e.what();
+  }
+}
+
 // Inputs that once crashed or hung the parser under the fuzzer stay here as regressions.
 TEST(SafeTensors, FuzzRegressionInputsNeverCrash) {
   const std::filesystem::path dir = FACETOOL_FUZZ_REGRESSIONS;

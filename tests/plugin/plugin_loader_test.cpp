@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/plugin/plugin_loader.h"
+#include "core/util/elf_check.h"
 #include "core/util/error.h"
 #include "core/util/shared_library.h"
 #include "test_plugin_interface.h"
@@ -218,6 +219,45 @@ TEST(PluginLoader, DefaultSearchDirsHonourTheEnvironment) {
   EXPECT_EQ(dirs[2], executable_dir());
   EXPECT_EQ(dirs[3], executable_dir() + "/../lib/facetool/plugins");
   EXPECT_EQ(PluginLoader().search_dirs(), PluginLoader::default_search_dirs());
+}
+
+// Regression for issue 10 (SIGBUS in dlopen): a plugin cut short at any size is refused with a
+// message naming the file before the loader maps it; the complete copy still loads, and the
+// same check guards backend modules (SharedLibrary::open is their only way in).
+TEST(PluginLoader, TruncatedLibrariesAreRefusedBeforeDlopen) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("facetool_truncated_plugin_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  std::ifstream in(plugin_file("good_loss"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 6000u);
+  const std::string complete = (dir / ("complete" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
+  std::ofstream(complete, std::ios::binary) << bytes;
+  EXPECT_NO_THROW(check_loadable_elf_file(complete));
+  EXPECT_NO_THROW(loader_over({dir.string()}).load_file(complete));
+
+  for (const size_t size : {size_t{0}, size_t{3}, size_t{63}, size_t{100}, size_t{3000},
+                            bytes.size() / 2, bytes.size() - 1}) {
+    const std::string file =
+        (dir / ("cut_" + std::to_string(size) + FACETOOL_PLUGIN_FILE_SUFFIX)).string();
+    std::ofstream(file, std::ios::binary) << bytes.substr(0, size);
+    const std::string direct = error_message([&] { check_loadable_elf_file(file); });
+    EXPECT_TRUE(contains(direct, file)) << direct;
+    const std::string message = error_message([&] { loader_over({}).load_file(file); });
+    EXPECT_TRUE(contains(message, file)) << size << " bytes: " << message;
+    EXPECT_TRUE(contains(message, "truncated") || contains(message, "ELF header"))
+        << size << " bytes: " << message;
+  }
+  // Not ELF at all, and a folder named like a plugin.
+  const std::string text = (dir / ("text" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
+  std::ofstream(text) << "#!/bin/sh\necho this is a script renamed as a plugin, long enough "
+                         "to hold an ELF header's worth of bytes\n";
+  EXPECT_TRUE(contains(error_message([&] { check_loadable_elf_file(text); }), "no ELF magic"));
+  const std::string folder = (dir / ("folder" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
+  std::filesystem::create_directories(folder);
+  EXPECT_TRUE(contains(error_message([&] { check_loadable_elf_file(folder); }),
+                       "not a regular file"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -99,6 +99,94 @@ TEST_F(SynthRun, RefusesAFolderOfAnotherSeed) {
   EXPECT_THROW(run_synth(*generator, options), Error);
 }
 
+// Issue 10: a sample cut short after its header (the header reads, the pixels do not) was kept
+// as "already present"; now every kept sample must decode completely, and damaged ones are made
+// again, identical to the first run's.
+TEST_F(SynthRun, SamplesTruncatedAfterTheirHeaderAreRegenerated) {
+  const std::string out = work.file("truncated");
+  run(out, 2);
+  std::vector<std::string> original;
+  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + synth_sample_file_name(k)));
+  const std::string cut_a = out + "/" + synth_sample_file_name(1);
+  const std::string cut_b = out + "/" + synth_sample_file_name(4);
+  fs::resize_file(cut_a, original[1].size() - 64);
+  fs::resize_file(cut_b, original[4].size() / 2);
+  // The damage is past the header: the metadata check alone would keep these files.
+  EXPECT_NO_THROW(read_synth_sample_info(cut_a));
+  EXPECT_NO_THROW(read_synth_sample_info(cut_b));
+  const SynthRunReport report = run(out, 2);
+  EXPECT_EQ(report.generated, 2);
+  EXPECT_EQ(report.repaired, 2);
+  EXPECT_EQ(report.reused, 5);
+  for (int k = 0; k < 7; ++k)
+    EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(k)), original[k]) << k;
+}
+
+// Issue 10: a rerun with other settings (here other lights, other visibility directions, other
+// sampling ranges) must not reuse the samples silently: it stops, naming the folder and the way
+// out, and changes no file; with overwrite it regenerates them with the new settings.
+TEST_F(SynthRun, OtherSettingsAreRefusedUnlessOverwriting) {
+  const std::string out = work.file("settings");
+  run(out, 2);
+  std::vector<std::string> original;
+  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + synth_sample_file_name(k)));
+  const std::string manifest = read_bytes(out + "/manifest-0-of-1.tsv");
+  EXPECT_NE(manifest.find("# settings " + generator->settings_fingerprint()), std::string::npos);
+  EXPECT_NE(manifest.find("light b.txt"), std::string::npos) << manifest;
+
+  testing::ScratchDir other_lights{"synth-run-other-lights"};
+  testing::write_text(other_lights.file("a.txt"), "1 1 1\n0.2 0.1 0\n0.4 0.4 0.4\n0 0.1 0.2\n0 0 0\n0 0 0\n0.1 0.1 0.1\n0 0 0\n0 0 0\n");
+  FaceSource faces;
+  faces.mesh = std::make_shared<const FaceMesh>(testing::make_sphere(24, 48));
+  SynthSettings base;
+  base.camera.width = base.camera.height = 32;
+  base.direction_count = 200;
+  std::vector<std::pair<std::string, std::unique_ptr<SampleGenerator>>> variants;
+  variants.emplace_back("fewer lights",
+                        std::make_unique<SampleGenerator>(
+                            faces, load_light_sources({other_lights.path()}), BackgroundSource(),
+                            make_reference_renderer(), base));
+  SynthSettings directions = base;
+  directions.direction_count = 201;
+  variants.emplace_back("other directions", std::make_unique<SampleGenerator>(
+                                                faces, load_light_sources({lights.path()}),
+                                                BackgroundSource(), make_reference_renderer(),
+                                                directions));
+  SynthSettings pose = base;
+  pose.pose.max_yaw_deg = 10;
+  variants.emplace_back("other pose range", std::make_unique<SampleGenerator>(
+                                                faces, load_light_sources({lights.path()}),
+                                                BackgroundSource(), make_reference_renderer(),
+                                                pose));
+  for (const auto& [what, other] : variants) {
+    EXPECT_NE(other->settings_fingerprint(), generator->settings_fingerprint()) << what;
+    SynthRunOptions options;
+    options.output_dir = out;
+    options.count = 7;
+    options.seed = 99;
+    try {
+      run_synth(*other, options);
+      ADD_FAILURE() << what << ": samples of other settings were reused";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(out), std::string::npos) << message;
+      EXPECT_NE(message.find("other settings"), std::string::npos) << message;
+      EXPECT_NE(message.find("--overwrite"), std::string::npos) << message;
+    }
+    for (int k = 0; k < 7; ++k)
+      EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(k)), original[k]) << what << k;
+  }
+  SynthRunOptions overwrite;
+  overwrite.output_dir = out;
+  overwrite.count = 7;
+  overwrite.seed = 99;
+  overwrite.overwrite = true;
+  EXPECT_EQ(run_synth(*variants[0].second, overwrite).generated, 7);
+  EXPECT_EQ(read_synth_sample_info(out + "/" + synth_sample_file_name(0)).settings,
+            variants[0].second->settings_fingerprint());
+  EXPECT_EQ(run_synth(*variants[0].second, overwrite).reused, 7);  // now the same settings
+}
+
 TEST_F(SynthRun, AFailedWriteLeavesNoFileUnderTheFinalName) {
   const std::string target = work.file("never.exr");
   EXPECT_THROW(write_atomically(target, [](const std::string& temporary) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/sh/sh_basis.h"
+#include "core/sh/sphere_samples.h"
 #include "core/synth/ray_scene.h"
 #include "core/synth/visibility.h"
 #include "synth_test_support.h"
@@ -121,6 +122,52 @@ TEST(SynthVisibility, GroupedPointsEqualSinglePoints) {
   float open[9];
   sampler.open_hemisphere(normals[0], open);
   EXPECT_LT(grouped[0], open[0] - 0.1f);
+}
+
+// Regression for uninitialised packet lanes (issue 10): integrate_group must cast fully defined
+// packets for every direction count (including tiny and odd ones) and every group size, with
+// normals that leave some lanes inactive for many directions. Reference: one rtcIntersect1 ray
+// per (point, direction) through RayScene::intersect, summed in double; the sampler sums float
+// basis values in double, so 1e-5 absolute covers the rounding (coefficients are O(1)).
+TEST(SynthVisibility, GroupsMatchOneRayAtATimeForAnyDirectionCountAndGroupSize) {
+  const std::vector<Vec3f> positions = {{-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5},
+                                        {-5, 0, -1}, {5, 0, -1}, {5, 3, -1}, {-5, 3, -1}};
+  const RayScene scene(positions, {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}});
+  for (const int directions : {1, 2, 7, 8, 9, 17, 31, 872, 1001}) {
+    const VisibilitySampler sampler(directions);
+    const std::vector<sh::Vec3> dirs = sh::fibonacci_sphere(directions);
+    for (const int count : {1, 3, 8, 15, 16}) {
+      Vec3f points[16], normals[16];
+      for (int k = 0; k < count; ++k) {
+        points[k] = {-2.0f + 0.25f * k, 0.0f, -0.85f + 0.2f * (k % 5)};
+        // Normals from straight up to almost horizontal and facing the wall or away from it.
+        const float tilt = 0.3f * (k % 4);
+        normals[k] = normalized({k % 2 ? tilt : -tilt, 1.0f, k % 3 ? 0.4f : -0.4f});
+      }
+      float grouped[16 * 9];
+      const int64_t cast = sampler.integrate_group(scene, points, normals, count, 1e-3f, grouped);
+      int64_t expected_cast = 0;
+      for (int k = 0; k < count; ++k) {
+        double reference[9] = {};
+        const Vec3f origin = points[k] + normals[k] * 1e-3f;
+        for (const sh::Vec3& d : dirs) {
+          const Vec3f w{static_cast<float>(d[0]), static_cast<float>(d[1]),
+                        static_cast<float>(d[2])};
+          if (w.x * normals[k].x + w.y * normals[k].y + w.z * normals[k].z <= 0.0f) continue;
+          ++expected_cast;
+          if (scene.intersect(origin, w).triangle >= 0) continue;
+          double y[9];
+          sh::sh_basis(d[0], d[1], d[2], y);
+          for (int i = 0; i < 9; ++i) reference[i] += y[i] * 4.0 * kPi / directions;
+        }
+        for (int i = 0; i < 9; ++i)
+          EXPECT_NEAR(grouped[9 * k + i], reference[i], 1e-5)
+              << directions << " directions, group of " << count << ", point " << k
+              << ", coefficient " << i;
+      }
+      EXPECT_EQ(cast, expected_cast) << directions << " directions, group of " << count;
+    }
+  }
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ int run_backends(CommandContext& context, const std::vector<std::string>& args) 
                              "to select it (--backend opencl:<index>).",
                              options, po::positional_options_description(), args, values))
     return 0;
+  check_option_ranges(values, {});  // no numeric options (a new one must get a range)
 
   const std::string selected = context.backend.substr(0, context.backend.find(':'));
   const std::vector<BackendInfo> backends = list_backends();

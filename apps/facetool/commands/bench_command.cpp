@@ -44,7 +44,9 @@ void bench_network(CommandContext& context, const BenchSettings& settings) {
 void bench_render(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
-  const int batch = settings.quick ? 2 : settings.train_batch > 0 ? settings.train_batch : 20;
+  if (!settings.quick && settings.train_batch < 1)
+    throw UsageError("bench render: --train-batch is the render batch and must be at least 1");
+  const int batch = settings.quick ? 2 : settings.train_batch;
   run_render_benchmarks(*renderer, backend, batch, settings.input_size, settings.repeats, std::cout);
 }
 
@@ -83,6 +85,10 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
                              "Targets: " + known_benchmarks() + ".",
                              options, positional, args, values, hidden))
     return 0;
+  check_option_ranges(values, {{"repeats", 1, 10000},
+                               {"width", 1, 4096},
+                               {"input-size", 2, 4096},
+                               {"train-batch", 0, 4096}});
 
   if (!values.count("target"))
     throw UsageError("bench needs a target; known benchmarks: " + known_benchmarks());

@@ -1,7 +1,11 @@
 // Option parsing shared by main() and the commands.
 #include "apps/facetool/commands/command_options.h"
 
+#include <cmath>
+#include <cstdint>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 namespace po = boost::program_options;
 
@@ -44,6 +48,43 @@ bool parse_command_options(const std::string& usage, const std::string& descript
   }
   po::notify(values);
   return true;
+}
+
+namespace {
+
+// The value of a numeric option as a double, or nothing for other types (strings, lists).
+std::optional<double> numeric_value(const boost::any& value) {
+  if (const int* v = boost::any_cast<int>(&value)) return *v;
+  if (const int64_t* v = boost::any_cast<int64_t>(&value)) return static_cast<double>(*v);
+  if (const uint64_t* v = boost::any_cast<uint64_t>(&value)) return static_cast<double>(*v);
+  if (const unsigned* v = boost::any_cast<unsigned>(&value)) return *v;
+  if (const float* v = boost::any_cast<float>(&value)) return *v;
+  if (const double* v = boost::any_cast<double>(&value)) return *v;
+  return std::nullopt;
+}
+
+std::string number_text(double value) {
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  return out.str();
+}
+
+}  // namespace
+
+void check_option_ranges(const po::variables_map& values, const std::vector<OptionRange>& ranges) {
+  for (const auto& [name, variable] : values) {
+    const std::optional<double> value = numeric_value(variable.value());
+    if (!value) continue;
+    const OptionRange* range = nullptr;
+    for (const OptionRange& r : ranges)
+      if (r.name == name) range = &r;
+    check(range != nullptr, "internal: numeric option --", name,
+          " has no valid range; add it to the command's check_option_ranges call");
+    if (!std::isfinite(*value) || *value < range->min || *value > range->max)
+      throw UsageError("--" + name + " must be a finite number in [" + number_text(range->min) +
+                       ", " + number_text(range->max) + "]; got " + number_text(*value));
+  }
 }
 
 std::vector<int> parse_positive_int_list(const std::string& text, const std::string& option) {

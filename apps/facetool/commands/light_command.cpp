@@ -107,6 +107,7 @@ int run_from_envmap(const std::vector<std::string>& args) {
           "writes a facetool light JSON with the source file and rotation as metadata.",
           options, positional, args, values, hidden))
     return 0;
+  check_option_ranges(values, {});  // no numeric options (a new one must get a range)
   if (output.empty()) throw UsageError("-o FILE.json must not be empty");
   require_existing_file(input, "environment map");
   const std::array<double, 3> angles =
@@ -146,9 +147,12 @@ int run_convert(const std::vector<std::string>& args) {
   std::string input, output, to, from;
   options.add_options()
       ("to", po::value(&to)->value_name("FORMAT")->required(),
-       "format to write: facetool (JSON), sfsnet (27 numbers), dpr (9 numbers, grey)")
+       "format to write: facetool (JSON), sfsnet (3 lines of 9), dpr (9 numbers, grey), "
+       "rgb-table (9 lines of 'R G B', facetool's coefficients, as synth --lights reads)")
       ("from", po::value(&from)->value_name("FORMAT"),
-       "format of IN (default: guessed; .json = facetool, 27 numbers = sfsnet, 9 = dpr)");
+       "format of IN (default: by extension and shape: .json = facetool, 3 lines of 9 = "
+       "sfsnet, 9 lines of 3 = rgb-table, 9 numbers = dpr; other layouts of 27 numbers are "
+       "ambiguous and need --from)");
   hidden.add_options()
       ("input", po::value(&input)->required(), "light to read")
       ("output", po::value(&output)->required(), "light to write");
@@ -156,12 +160,13 @@ int run_convert(const std::vector<std::string>& args) {
   positional.add("input", 1).add("output", 1);
   po::variables_map values;
   if (!parse_command_options(
-          "light convert IN OUT --to {facetool,sfsnet,dpr} [--from FORMAT]",
+          "light convert IN OUT --to {facetool,sfsnet,dpr,rgb-table} [--from FORMAT]",
           "Converts a light between facetool's JSON (radiance coefficients in facetool's frame),\n"
           "SfSNet's 27-value text and DPR's 9-value grey text (shading coefficients in their own\n"
           "order and frame; see docs/conventions.md). Writing DPR keeps Rec. 601 luma only.",
           options, positional, args, values, hidden))
     return 0;
+  check_option_ranges(values, {});  // no numeric options (a new one must get a range)
   light::Format to_format = light::Format::Facetool, from_format = light::Format::Facetool;
   try {
     to_format = light::format_from_name(to);
@@ -208,6 +213,7 @@ int run_show(const std::vector<std::string>& args) {
           "lights can have (use `light from-envmap --clamp` to remove them).",
           options, positional, args, values, hidden))
     return 0;
+  check_option_ranges(values, {{"size", 16, 4096}});
   const std::string extension = std::filesystem::path(output).extension().string();
   if (extension != ".png" && extension != ".PNG")
     throw UsageError("-o '" + output + "': light show writes a PNG; name it FILE.png");

@@ -21,6 +21,7 @@ int run_plugins(CommandContext& context, const std::vector<std::string>& args) {
           "and every file that could not be loaded with the reason.",
           options, po::positional_options_description(), args, values))
     return 0;
+  check_option_ranges(values, {});  // no numeric options (a new one must get a range)
 
   // Unlike other commands, a bad --plugin file is listed with the other problems, not fatal.
   PluginLoader loader;

@@ -90,9 +90,10 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
       ("mask", po::value(&mask_path)->value_name("FILE"),
        "grey image; pixels > 0.5 are rendered, others are 0 (default: every pixel)")
       ("light", po::value(&light_path)->value_name("FILE")->required(),
-       "light file: facetool .json, SfSNet (27 numbers) or DPR (9 numbers)")
+       "light file: facetool .json, SfSNet (3 lines of 9), DPR (9 numbers) or rgb-table (9 "
+       "lines of R G B); text layouts are told apart by their shape")
       ("light-format", po::value(&light_format)->value_name("FORMAT"),
-       "format of --light when guessing is not wanted: facetool, sfsnet or dpr")
+       "format of --light when guessing is not wanted: facetool, sfsnet, dpr or rgb-table")
       ("output,o", po::value(&output)->value_name("OUT.{png,exr}")->required(),
        "image to write; the shading goes to OUT_shading.<ext> beside it")
       ("renderer", po::value(&renderer_name)->value_name("NAME")->default_value("sh_renderer"),
@@ -108,6 +109,7 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
           "(linear float) by OUT's extension. Nothing is written if anything fails.",
           options, po::positional_options_description(), args, values))
     return 0;
+  check_option_ranges(values, {});  // no numeric options (a new one must get a range)
   const OutputPaths paths = output_paths(output);
   light::Format format = light::Format::Facetool;
   if (!light_format.empty()) {

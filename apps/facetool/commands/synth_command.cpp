@@ -9,6 +9,7 @@
 #include "core/backend/registry.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/plugin_renderer.h"
+#include "core/synth/random.h"
 #include "core/synth/synth_runner.h"
 #include "core/util/progress_bar.h"
 
@@ -68,6 +69,9 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
       ("contact-sheet", po::value(&contact_sheet)->value_name("FILE.png"),
        "write a PNG: per sample image, albedo, normal, shading, ambient visibility")
       ("contact-sheet-rows", po::value(&contact_rows)->default_value(16), "samples on the sheet")
+      ("overwrite", po::bool_switch(),
+       "regenerate samples already in --out that were made with other settings (lights, "
+       "faces, size, seed, ...) instead of stopping; damaged samples are always regenerated")
       ("renderer", po::value(&renderer_name)->default_value("sh_renderer"),
        "renderer plugin that makes the images (the network's rendering layer), or 'reference' "
        "for the SH library's double-precision triple product");
@@ -81,6 +85,13 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
           "Interrupted runs resume; the same seed gives the same samples for any --threads.",
           options, po::positional_options_description(), args, values))
     return 0;
+  check_option_ranges(values, {{"count", 0, 1e9},
+                               {"seed", 0, 18446744073709551615.0},
+                               {"threads", 1, 1024},
+                               {"directions", 1, 100000},
+                               {"identity-truncation", Random::kMinTruncation, 100},
+                               {"max-expressions", 0, 1000},
+                               {"contact-sheet-rows", 1, 10000}});
   if (face_model.empty() == mesh.empty())
     throw UsageError(face_model.empty()
                          ? std::string("give --face-model DIR or --mesh FILE.obj: ") + kIctFaceKitHint
@@ -94,6 +105,7 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
   run.threads = threads;
   run.contact_sheet = contact_sheet;
   run.contact_sheet_rows = contact_rows;
+  run.overwrite = values["overwrite"].as<bool>();
   if (count < 0) throw UsageError("--count must not be negative");
   if (threads <= 0) throw UsageError("--threads must be positive");
   if (lights.empty()) {
@@ -130,6 +142,8 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
   const double rate = report.seconds > 0 ? report.generated / report.seconds : 0.0;
   const double mrays = report.seconds > 0 ? report.rays_cast / report.seconds / 1e6 : 0.0;
   const double cpu_per_sample = report.generated > 0 ? report.cpu_seconds / report.generated : 0.0;
+  if (report.repaired > 0)
+    std::printf("%lld damaged samples regenerated\n", static_cast<long long>(report.repaired));
   std::printf("%lld generated, %lld already present, in %.1f s: %.2f samples/s, %.1f Mrays/s "
               "(%d threads; %.3f CPU s per sample)\nmanifest: %s\n",
               static_cast<long long>(report.generated), static_cast<long long>(report.reused),
