@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "core/autograd/functions.h"
@@ -144,6 +145,23 @@ TEST(PaperNetwork, WeightsRoundTripAndMismatchErrors) {
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("light.fc.bias"), std::string::npos) << e.what();
+  }
+  // A NaN weight (issue 10: silently wrong outputs) is refused, naming the tensor and element.
+  SafeTensorsWriter poisoned;
+  for (const std::string& name : file.names()) {
+    std::vector<float> values = file.floats(name);
+    if (name == "light.fc.bias") values[2] = std::numeric_limits<float>::quiet_NaN();
+    poisoned.add(name, file.entry(name).shape, values);
+  }
+  for (const auto& [k, v] : file.metadata()) poisoned.set_metadata(k, v);
+  poisoned.write_file(path);
+  try {
+    load_network_weights(*copy, SafeTensors::read_file(path), path);
+    FAIL() << "NaN weight accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'light.fc.bias' holds a NaN or infinite value at element 2"),
+              std::string::npos)
+        << e.what();
   }
   std::filesystem::remove_all(dir);
 }
