@@ -61,7 +61,7 @@ void check_loadable_elf_file(const std::string& path) {
   auto bad = [&](const auto&... parts) {
     fail("cannot load '", path, "': ", parts...,
          "; the file is damaged or not a library for this machine: rebuild or reinstall it, or "
-         "remove it from the plugin folder");
+         "remove it from the folder searched");
   };
   struct stat info;
   if (::stat(path.c_str(), &info) != 0) fail("cannot load '", path, "': no such file");
