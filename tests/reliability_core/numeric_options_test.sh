@@ -66,6 +66,15 @@ expect_refused batch 0 "${infer[@]}"
 expect_refused size 15 "${show[@]}"
 expect_refused size 4097 "${show[@]}"
 expect_refused repeats 0 "${bench[@]}"
+expect_refused batch 1025 "${infer[@]}"
+expect_refused input-size 1025 "${bench[@]}"
+expect_refused count 10000001 "${synth[@]}"
+# --batches is a list: each entry is checked.
+output=$(timeout 60 "$facetool" bench ops --batches=1,2000 2>&1)
+if [ $? -eq 0 ] || ! grep -q -- "--batches" <<<"$output"; then
+  echo "FAIL: bench --batches=1,2000 was not refused naming --batches: $output"
+  failures=$((failures + 1))
+fi
 
 # Values inside the ranges pass the check (the command then fails for its missing inputs).
 expect_in_range identity-truncation 2.5 "${synth[@]}"

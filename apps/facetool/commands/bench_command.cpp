@@ -86,9 +86,9 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
                              options, positional, args, values, hidden))
     return 0;
   check_option_ranges(values, {{"repeats", 1, 10000},
-                               {"width", 1, 4096},
-                               {"input-size", 2, 4096},
-                               {"train-batch", 0, 4096}});
+                               {"width", 1, 1024},
+                               {"input-size", 2, 1024},
+                               {"train-batch", 0, 1024}});
 
   if (!values.count("target"))
     throw UsageError("bench needs a target; known benchmarks: " + known_benchmarks());
@@ -100,6 +100,9 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 
   BenchSettings settings;
   settings.batches = parse_positive_int_list(values["batches"].as<std::string>(), "batches");
+  for (const int batch : settings.batches)
+    if (batch > 1024)
+      throw UsageError("--batches: each batch must be in [1, 1024]; got " + std::to_string(batch));
   settings.repeats = values["repeats"].as<int>();
   if (settings.repeats < 1)
     throw UsageError("--repeats must be at least 1, got " + std::to_string(settings.repeats));

@@ -79,9 +79,9 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           options, positional, args, values, hidden))
     return 0;
   check_option_ranges(values, {{"seed", 0, 18446744073709551615.0},
-                               {"width", 1, 4096},
-                               {"input-size", 2, 4096},
-                               {"batch", 1, 4096}});
+                               {"width", 1, 1024},
+                               {"input-size", 2, 1024},
+                               {"batch", 1, 1024}});
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   if (!values.count("output")) throw UsageError("infer: give an output folder with -o DIR");

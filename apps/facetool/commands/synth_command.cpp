@@ -85,7 +85,7 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
           "Interrupted runs resume; the same seed gives the same samples for any --threads.",
           options, po::positional_options_description(), args, values))
     return 0;
-  check_option_ranges(values, {{"count", 0, 1e9},
+  check_option_ranges(values, {{"count", 0, 1e7},
                                {"seed", 0, 18446744073709551615.0},
                                {"threads", 1, 1024},
                                {"directions", 1, 100000},
