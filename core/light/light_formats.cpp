@@ -72,7 +72,7 @@ std::string shape_text(const std::vector<std::vector<double>>& rows) {
   std::string widths;
   for (const auto& row : rows) widths += (widths.empty() ? "" : ",") + std::to_string(row.size());
   return std::to_string(number_count(rows)) + " numbers on " + std::to_string(rows.size()) +
-         " lines (numbers per line: " + widths + ")";
+         (rows.size() == 1 ? " line" : " lines") + " (numbers per line: " + widths + ")";
 }
 
 constexpr const char* kTextShapes =

@@ -174,7 +174,7 @@ TEST_F(ReliabilityInputs, EveryLightTextLayoutIsReadAsWhatItIs) {
   while (in >> word) numbers += word + " ";
   write(file("one_line.txt"), numbers + "\n");
   std::string message = error_of([&] { read_sh_light_file(file("one_line.txt")); });
-  EXPECT_TRUE(has(message, "one_line.txt") && has(message, "27 numbers on 1 lines")) << message;
+  EXPECT_TRUE(has(message, "one_line.txt") && has(message, "27 numbers on 1 line ")) << message;
   // Named explicitly, the layout that belongs to the other format is still refused.
   const light::Format sfsnet_format = light::Format::Sfsnet;
   message = error_of([&] { light::read_light(table, &sfsnet_format); });
