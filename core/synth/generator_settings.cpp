@@ -3,7 +3,6 @@
 
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <sstream>
 
 #include "core/synth/sample_generator.h"
