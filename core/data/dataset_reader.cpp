@@ -2,6 +2,7 @@
 #include "core/data/dataset_reader.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 
@@ -34,6 +35,24 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
   std::sort(files_.begin(), files_.end());
   check(!files_.empty(), "dataset folder '", options_.directory,
         "' holds no sample_*.exr files; make them with `facetool synth --out DIR`");
+  check(options_.start_batch >= 0, "dataset reader: start batch must be >= 0");
+  if (options_.holdout_every > 0 && options_.part != DatasetReaderOptions::Part::kAll) {
+    const bool want_validation = options_.part == DatasetReaderOptions::Part::kValidation;
+    std::vector<std::string> kept;
+    for (const std::string& file : files_) {
+      const std::string stem = fs::path(file).stem().string().substr(7);  // after "sample_"
+      char* end = nullptr;
+      const long long index = std::strtoll(stem.c_str(), &end, 10);
+      check(!stem.empty() && end && *end == '\0', "dataset file '", file,
+            "' is not named sample_<number>.exr, so it cannot be assigned to the training or "
+            "validation part");
+      if ((index % options_.holdout_every == 0) == want_validation) kept.push_back(file);
+    }
+    files_ = std::move(kept);
+    check(!files_.empty(), "dataset folder '", options_.directory, "' has no samples in its ",
+          want_validation ? "validation" : "training", " part (every ", options_.holdout_every,
+          "th sample index is held out); add samples or change the split");
+  }
   check(files_.size() >= static_cast<size_t>(options_.batch_size), "dataset folder '",
         options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
         options_.batch_size);
@@ -81,7 +100,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
 }
 
 void DatasetReader::produce() {
-  for (int64_t batch_number = 0;; ++batch_number) {
+  for (int64_t batch_number = options_.start_batch;; ++batch_number) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [this] {

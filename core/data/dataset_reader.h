@@ -31,6 +31,13 @@ struct DatasetReaderOptions {
   uint64_t seed = 0;      // shuffle order: the same seed gives the same batches
   bool shuffle = true;
   int prefetch = 2;       // batches decoded ahead
+  // Held-out split by sample index (the number in sample_XXXXXXXX.exr): with holdout_every = k
+  // > 0, samples whose index % k == 0 form the validation part. `part` picks which part this
+  // reader serves; kAll ignores the split.
+  enum class Part { kAll, kTraining, kValidation };
+  int holdout_every = 0;
+  Part part = Part::kAll;
+  int64_t start_batch = 0;  // the first batch served (resuming: batches already consumed)
 };
 
 class DatasetReader {
@@ -43,6 +50,7 @@ class DatasetReader {
   DatasetReader& operator=(const DatasetReader&) = delete;
 
   size_t sample_count() const { return files_.size(); }
+  const std::vector<std::string>& files() const { return files_; }
   int width() const { return width_; }
   int height() const { return height_; }
 
