@@ -6,6 +6,7 @@
 #include <exception>
 #include <filesystem>
 
+#include "core/data/training_sample.h"
 #include "core/synth/gbuffer.h"
 #include "core/synth/random.h"
 #include "core/synth/synth_sample.h"
@@ -56,9 +57,7 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
   check(files_.size() >= static_cast<size_t>(options_.batch_size), "dataset folder '",
         options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
         options_.batch_size);
-  const SynthSampleInfo first = read_synth_sample_info(files_[0]);
-  width_ = first.width;
-  height_ = first.height;
+  read_training_sample_size(files_[0], width_, height_);
   worker_ = std::thread([this] { produce(); });
 }
 
@@ -84,7 +83,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
   const int64_t first = (batch_number % per_epoch) * options_.batch_size;
   for (int b = 0; b < options_.batch_size; ++b) {
     const std::string& file = files_[order[first + b]];
-    const SynthSample s = read_synth_sample(file);
+    const TrainingSample s = read_training_sample(file, options_.require_labels);
     check(s.width == width_ && s.height == height_, "sample '", file, "' is ", s.width, "x",
           s.height, " but the dataset's first sample is ", width_, "x", height_);
     batch.files.push_back(file);
@@ -94,7 +93,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
     const std::vector<float> eroded = erode_mask(s.mask, s.width, s.height);
     batch.mask.insert(batch.mask.end(), eroded.begin(), eroded.end());
     batch.visibility.insert(batch.visibility.end(), s.visibility.begin(), s.visibility.end());
-    for (double value : s.light) batch.light.push_back(static_cast<float>(value));
+    batch.light.insert(batch.light.end(), s.light.begin(), s.light.end());
   }
   return batch;
 }

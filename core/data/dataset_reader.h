@@ -1,5 +1,6 @@
-// DatasetReader: shuffled batches of synthetic samples (facetool synth EXR files) as tensors,
-// decoded on a background thread while the caller trains.
+// DatasetReader: shuffled batches of samples (facetool synth EXR files, or real ones from
+// prepare-real / pseudo-label: core/data/training_sample.h) as tensors, decoded on a background
+// thread while the caller trains.
 #pragma once
 
 #include <condition_variable>
@@ -38,6 +39,8 @@ struct DatasetReaderOptions {
   int holdout_every = 0;
   Part part = Part::kAll;
   int64_t start_batch = 0;  // the first batch served (resuming: batches already consumed)
+  // Real samples (facetool-real-1) must carry pseudo labels; without, their labels are zeros.
+  bool require_labels = true;
 };
 
 class DatasetReader {

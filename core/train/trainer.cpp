@@ -35,6 +35,7 @@ DatasetReaderOptions reader_options(const TrainingConfig& c, const DataSource& s
   o.batch_size = s.batch;
   o.seed = c.seed;
   o.shuffle = !validation;
+  o.require_labels = s.kind != "real";
   o.holdout_every = c.validation_holdout_every;
   o.part = c.validation_holdout_every == 0 ? DatasetReaderOptions::Part::kAll
            : validation                    ? DatasetReaderOptions::Part::kValidation

@@ -7,6 +7,8 @@
 
 #include "core/backend/registry.h"
 #include "core/data/dataset_reader.h"
+#include "core/data/training_sample.h"
+#include "core/io/exr_io.h"
 #include "core/plugin/plugin_loader.h"
 #include "core/synth/gbuffer.h"
 #include "core/synth/synth_runner.h"
@@ -238,6 +240,45 @@ TEST_F(TrainTest, NonFiniteLossStopsNamingStepAndTerm) {
   for (const auto& [name, p] : t->network().parameters())
     EXPECT_EQ(p.value().to_host(), before[k++]) << name << " changed after the NaN step";
   EXPECT_EQ(t->steps_done(), 0);
+}
+
+// A real sample (facetool-real-1) without labels is refused where labels are needed, read with
+// zero labels otherwise; with pseudo labels it reads like a synthetic one.
+TEST_F(TrainTest, RealSamplesNeedPseudoLabelsForSupervisedTerms) {
+  testing::ScratchDir real("train-real");
+  const int w = 8, h = 6;
+  LayeredImage image(w, h, {"R", "G", "B", "mask"});
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = 0.001f * static_cast<float>(i);
+  image.set_metadata("facetool:generator_version", kRealSampleVersion);
+  image.set_metadata("facetool:source", "photos/a.jpg");
+  write_exr_atomically(real.file("sample_00000000.exr"), image);
+  Backend& be = get_backend("cpu");
+  DatasetReaderOptions o;
+  o.directory = real.path();
+  o.batch_size = 1;
+  const std::string message = error_of([&] { DatasetReader(be, o).next(); });
+  EXPECT_TRUE(has(message, "sample_00000000.exr") && has(message, "pseudo-label")) << message;
+  o.require_labels = false;
+  const SyntheticBatch unlabelled = DatasetReader(be, o).next();
+  EXPECT_EQ(unlabelled.image.to_host()[5], image.pixels[5]);
+
+  LayeredImage labelled(w, h, {"R", "G", "B", "mask", "albedo.R", "albedo.G", "albedo.B", "normal.X",
+                               "normal.Y", "normal.Z", "visibility.0", "visibility.1", "visibility.2",
+                               "visibility.3", "visibility.4", "visibility.5", "visibility.6",
+                               "visibility.7", "visibility.8"});
+  for (size_t i = 0; i < labelled.pixels.size(); ++i) labelled.pixels[i] = 0.001f * static_cast<float>(i);
+  labelled.metadata = image.metadata;
+  std::string light;
+  for (int k = 0; k < 27; ++k) light += std::to_string(0.5 * k) + " ";
+  labelled.set_metadata("facetool:light_sh", light);
+  write_exr_atomically(real.file("sample_00000000.exr"), labelled);
+  const TrainingSample s = read_training_sample(real.file("sample_00000000.exr"), true);
+  ASSERT_TRUE(s.labelled && s.real);
+  const size_t plane = static_cast<size_t>(w) * h;
+  EXPECT_EQ(s.albedo[0], labelled.pixels[4 * plane]);
+  EXPECT_EQ(s.normal[plane + 1], labelled.pixels[8 * plane + 1]);
+  EXPECT_EQ(s.visibility[8 * plane + 2], labelled.pixels[18 * plane + 2]);
+  EXPECT_EQ(s.light[26], 13.0f);
 }
 
 // 60 steps at width 4 on 16x16 samples: the mean total loss of the last 5 steps is below 2/3 of
