@@ -4,6 +4,9 @@
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <csignal>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "core/backend/registry.h"
 #include "core/data/dataset_reader.h"
@@ -215,6 +218,39 @@ TEST_F(TrainTest, CheckpointOfAnotherNetworkIsRefused) {
   EXPECT_TRUE(has(message, "width 4") && has(message, "width 6")) << message;
   EXPECT_TRUE(has(error_of([&] { read_checkpoint_state(run.file("missing.safetensors")); }),
                   "missing.safetensors"));
+}
+
+// A checkpoint write killed at any moment (SIGKILL to a process rewriting it in a loop) leaves
+// a complete checkpoint: the previous one or a finished new one, never a torn file.
+TEST_F(TrainTest, KilledCheckpointWriteLeavesACompleteCheckpoint) {
+  Backend& be = get_backend("cpu");
+  testing::ScratchDir run("train-kill");
+  const std::string path = run.file("checkpoint.safetensors");
+  auto t = trainer(be, config(data->path()));
+  t->save(path);
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    int ready[2];
+    ASSERT_EQ(pipe(ready), 0);
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      const char byte = 1;
+      for (int k = 0;; ++k) {
+        t->save(path);
+        if (k == 0 && write(ready[1], &byte, 1) != 1) _exit(1);
+      }
+    }
+    char byte = 0;
+    ASSERT_EQ(read(ready[0], &byte, 1), 1);  // the child is past one write, inside the next
+    kill(child, SIGKILL);
+    int status = 0;
+    waitpid(child, &status, 0);
+    close(ready[0]);
+    close(ready[1]);
+    EXPECT_EQ(read_checkpoint_state(path).step, 0);
+    auto restored = trainer(be, config(data->path()));
+    EXPECT_NO_THROW(restored->restore(path)) << "attempt " << attempt;
+  }
 }
 
 // A NaN in the targets stops the step before the optimiser, naming the step and the term.
