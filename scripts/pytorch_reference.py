@@ -3,6 +3,9 @@
 
   bench                      forward ms/image (batch 1 and 20) and a training step (batch 20,
                              Adam) on the CPU, to set beside `facetool bench network`
+  bench-train                the full stage-1 step of `facetool bench train`: network, the SH
+                             triple-product renderer and the paper's eight loss terms, Adam
+                             (batch 20, 128x128, widths 32 64 128; data already in memory)
   export-random W.safetensors  random weights (including batch-norm statistics) in facetool's
                              format (docs/model-format.md), plus a 128x128 test image W.png
   compare W.safetensors RAW.safetensors
@@ -249,6 +252,101 @@ def bench(args):
     print(f"training step       batch 20  {t:8.2f} s  ({20 / t:.2f} images/s)")
 
 
+SH_K = (0.28209479177387814347, 0.48860251190291992159, 1.09254843059207907054,
+        0.31539156525252000603, 0.54627421529603953527)
+
+
+def sh_basis(x, y, z):
+    """The 9 real SH in facetool's order and sign (docs/conventions.md), stacked on a new last axis."""
+    k0, k1, k2, k20, k22 = SH_K
+    return torch.stack([torch.full_like(x, k0), k1 * y, k1 * z, k1 * x, k2 * x * y, k2 * y * z,
+                        k20 * (3 * z * z - 1), k2 * x * z, k22 * (x * x - y * y)], -1)
+
+
+def triple_product_table():
+    """T_ijk = integral of Y_i Y_j Y_k over the sphere (Gauss-Legendre x uniform azimuth; exact)."""
+    t, w = np.polynomial.legendre.leggauss(8)
+    phi = np.arange(16) * (2 * np.pi / 16)
+    tt, pp = np.meshgrid(t, phi, indexing="ij")
+    st = np.sqrt(1 - tt * tt)
+    y = sh_basis(torch.tensor(st * np.cos(pp)), torch.tensor(st * np.sin(pp)), torch.tensor(tt))
+    weight = torch.tensor(np.repeat(w[:, None], 16, 1) * (2 * np.pi / 16))
+    return torch.einsum("ab,abi,abj,abk->ijk", weight, y, y, y).float()
+
+
+def light_gram(count=64000):
+    """G_ij = mean over `count` Fibonacci directions of Y_i Y_j (the E_L directions)."""
+    s = torch.arange(count, dtype=torch.float64)
+    z = 1 - (2 * s + 1) / count
+    phi = s * np.pi * (3 - np.sqrt(5))
+    r = torch.sqrt(1 - z * z)
+    y = sh_basis(r * torch.cos(phi), r * torch.sin(phi), z)
+    return (y.T @ y / count).float()
+
+
+def render(albedo, normal, visibility, light, table, mask):
+    """albedo / pi * sum_ijk T_ijk L_i v_j c_k(n), c_k = A_l Y_k(n / |n|), inside the mask."""
+    n = F.normalize(normal, dim=1)
+    band = torch.tensor([np.pi] + [2 * np.pi / 3] * 3 + [np.pi / 4] * 5)
+    c = sh_basis(n[:, 0], n[:, 1], n[:, 2]) * band  # [N,H,W,9]
+    m = torch.einsum("ijk,nci->ncjk", table, light.view(-1, 3, 9))
+    shading = torch.einsum("ncjk,njhw,nhwk->nchw", m, visibility, c) / np.pi
+    return albedo * shading * mask
+
+
+def masked_mse(x, y, mask):
+    return ((x - y).square() * mask).sum() / (x.shape[1] * mask.sum())
+
+
+def bench_train(args):
+    torch.set_num_threads(args.threads)
+    table, gram = triple_product_table(), light_gram()
+    size, batch = 128, 20
+    print(f"PyTorch {torch.__version__}, {torch.get_num_threads()} threads: full stage-1 step, "
+          f"batch {batch}, {size}x{size}, 8 terms, Adam")
+    g = torch.Generator().manual_seed(1)
+    yy, xx = torch.meshgrid(torch.linspace(1, -1, size), torch.linspace(-1, 1, size), indexing="ij")
+    mask = ((xx * xx + yy * yy) < 0.8).float().expand(batch, 1, size, size)
+    image = torch.rand(batch, 3, size, size, generator=g)
+    t_albedo = 0.3 + 0.4 * torch.rand(batch, 3, size, size, generator=g)
+    t_normal = torch.stack([xx, yy, torch.sqrt(torch.clamp(1 - xx * xx - yy * yy, min=0))]).expand(batch, 3, size, size)
+    t_vis = torch.zeros(batch, 9, size, size)
+    t_vis[:, 0] = 3.5449077
+    t_light = torch.rand(batch, 27, generator=g)
+    for width in args.widths:
+        net = PaperNetwork(width)
+        net.train()
+        opt = torch.optim.Adam(net.parameters(), lr=1e-4)
+
+        def terms(albedo, normal, visibility, light):
+            def recon(a, n, v, l):
+                return masked_mse(render(a, n, v, l, table, mask), image, mask)
+            d = (light - t_light).view(-1, 9)
+            return (recon(albedo, t_normal, t_vis, t_light) + 0.2 * recon(t_albedo, normal, t_vis, t_light)
+                    + 0.2 * recon(t_albedo, t_normal, visibility, t_light)
+                    + 0.01 * recon(t_albedo, t_normal, t_vis, light)
+                    + masked_mse(albedo, t_albedo, mask) + 0.2 * masked_mse(normal, t_normal, mask)
+                    + 0.2 * masked_mse(visibility, t_vis, mask) + 0.01 * ((d @ gram) * d).sum(1).mean())
+
+        def step():
+            opt.zero_grad()
+            terms(*net(image)).backward()
+            opt.step()
+
+        outputs = [o.detach() for o in net(image)]
+
+        def losses_alone():
+            leaves = [o.clone().requires_grad_(True) for o in outputs]
+            terms(*leaves).backward()
+
+        step()
+        t = median_seconds(step, args.repeats)
+        losses_alone()
+        tl = median_seconds(losses_alone, args.repeats)
+        print(f"width {width:3d}  step {1000 * t:8.1f} ms  {batch / t:6.2f} images/s  "
+              f"losses+render {1000 * tl:7.1f} ms ({100 * tl / t:.0f}%)")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -256,6 +354,10 @@ def main():
     b.add_argument("--width", type=int, default=128)
     b.add_argument("--threads", type=int, default=2)
     b.add_argument("--repeats", type=int, default=5)
+    t = sub.add_parser("bench-train")
+    t.add_argument("--widths", type=int, nargs="+", default=[32, 64, 128])
+    t.add_argument("--threads", type=int, default=2)
+    t.add_argument("--repeats", type=int, default=3)
     e = sub.add_parser("export-random")
     e.add_argument("weights")
     e.add_argument("--width", type=int, default=32)
@@ -268,6 +370,8 @@ def main():
     args = parser.parse_args()
     if args.command == "bench":
         return bench(args)
+    if args.command == "bench-train":
+        return bench_train(args)
     if args.command == "export-random":
         return export_random(args)
     return compare(args)

@@ -198,18 +198,21 @@ void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor&
     winograd_weight_gradient(g, batch, out_channels, px, pdy, ptr(*dw), accumulate,
                              partials.data());
   } else if (dw) {
-    // Each thread sums dy * col^T over its (image, pixel block) tasks into its own partial
-    // [Co, K]; the partials are added up at the end.
+    // The (image, pixel block) tasks are split into one contiguous range per lane (as many
+    // lanes as threads); each lane sums dy * col^T over its range into its own partial [Co, K],
+    // and the partials are added up in lane order at the end. The split does not depend on
+    // which thread runs which lane, so the result is the same bits every run (exact resume).
     const int64_t block = pixel_block(g, kWeightGradBlockFloats);
     const int64_t blocks = ceil_div(pixels, block);
     const int64_t weights = out_channels * rows;
-    const int threads = parallel_thread_count();
+    const int64_t tasks = batch * blocks;
+    const int threads = static_cast<int>(std::min<int64_t>(parallel_thread_count(), tasks));
     Scratch partials = scratch(static_cast<size_t>(threads * weights));
     std::vector<char> used(static_cast<size_t>(threads), 0);
-    parallel_for(batch * blocks, 1, [&](int64_t begin, int64_t end) {
-      const int slot = parallel_thread_slot();
+    parallel_for(threads, 1, [&](int64_t lane_begin, int64_t lane_end) {
+      for (int64_t slot = lane_begin; slot < lane_end; ++slot) {
       float* partial = partials.data() + slot * weights;
-      for (int64_t t = begin; t < end; ++t) {
+      for (int64_t t = tasks * slot / threads; t < tasks * (slot + 1) / threads; ++t) {
         const int64_t n = t / blocks;
         const int64_t p0 = (t % blocks) * block;
         const int64_t count = std::min(block, pixels - p0);
@@ -226,6 +229,7 @@ void CpuBackend::conv2d_backward(const Tensor& x, const Tensor& w, const Tensor&
                 partial, rows);
         }
         used[slot] = 1;
+      }
       }
     });
     float* pdw = ptr(*dw);

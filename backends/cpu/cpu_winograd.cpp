@@ -408,14 +408,18 @@ void winograd_weight_gradient(const ConvGeometry& g, int64_t batch, int64_t out_
   const int64_t T = kTilesPerTask;
   const int64_t weights = kPoints * out_channels * channels;
   const Tiling tiling(g);
-  std::vector<char> used(static_cast<size_t>(parallel_thread_count()), 0);
+  // One contiguous range of tasks per lane (as many lanes as threads), each lane summing into
+  // its own partial, added up in lane order: the same bits whichever thread runs which lane.
+  const int64_t tasks = batch * tiling.tasks_per_image;
+  const int64_t lanes = std::min<int64_t>(parallel_thread_count(), tasks);
+  std::vector<char> used(static_cast<size_t>(lanes), 0);
 
   // partial[xi] [Co, Ci] += (A dy A^T)[xi] [Co, tiles] x (B^T x B)[xi]^T [tiles, Ci]
-  parallel_for(batch * tiling.tasks_per_image, 1, [&](int64_t begin, int64_t end) {
-    const int slot = parallel_thread_slot();
+  parallel_for(lanes, 1, [&](int64_t lane_begin, int64_t lane_end) {
+    for (int64_t slot = lane_begin; slot < lane_end; ++slot) {
     float* partial = partials + slot * weights;
     const TaskBuffers b = task_buffers(channels, out_channels);
-    for (int64_t task = begin; task < end; ++task) {
+    for (int64_t task = tasks * slot / lanes; task < tasks * (slot + 1) / lanes; ++task) {
       const TileRange r = tiling.task(task);
       transform_input_tiles(g, tiling, x, r, b);
       for (int64_t co = 0; co < out_channels; ++co) {
@@ -436,6 +440,7 @@ void winograd_weight_gradient(const ConvGeometry& g, int64_t batch, int64_t out_
               T, b.v + xi * channels * T, T, beta, partial + xi * out_channels * channels,
               channels);
       used[slot] = 1;
+    }
     }
   });
 

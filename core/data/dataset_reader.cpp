@@ -2,9 +2,11 @@
 #include "core/data/dataset_reader.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 
+#include "core/data/training_sample.h"
 #include "core/synth/gbuffer.h"
 #include "core/synth/random.h"
 #include "core/synth/synth_sample.h"
@@ -34,12 +36,28 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
   std::sort(files_.begin(), files_.end());
   check(!files_.empty(), "dataset folder '", options_.directory,
         "' holds no sample_*.exr files; make them with `facetool synth --out DIR`");
+  check(options_.start_batch >= 0, "dataset reader: start batch must be >= 0");
+  if (options_.holdout_every > 0 && options_.part != DatasetReaderOptions::Part::kAll) {
+    const bool want_validation = options_.part == DatasetReaderOptions::Part::kValidation;
+    std::vector<std::string> kept;
+    for (const std::string& file : files_) {
+      const std::string stem = fs::path(file).stem().string().substr(7);  // after "sample_"
+      char* end = nullptr;
+      const long long index = std::strtoll(stem.c_str(), &end, 10);
+      check(!stem.empty() && end && *end == '\0', "dataset file '", file,
+            "' is not named sample_<number>.exr, so it cannot be assigned to the training or "
+            "validation part");
+      if ((index % options_.holdout_every == 0) == want_validation) kept.push_back(file);
+    }
+    files_ = std::move(kept);
+    check(!files_.empty(), "dataset folder '", options_.directory, "' has no samples in its ",
+          want_validation ? "validation" : "training", " part (every ", options_.holdout_every,
+          "th sample index is held out); add samples or change the split");
+  }
   check(files_.size() >= static_cast<size_t>(options_.batch_size), "dataset folder '",
         options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
         options_.batch_size);
-  const SynthSampleInfo first = read_synth_sample_info(files_[0]);
-  width_ = first.width;
-  height_ = first.height;
+  read_training_sample_size(files_[0], width_, height_);
   worker_ = std::thread([this] { produce(); });
 }
 
@@ -65,7 +83,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
   const int64_t first = (batch_number % per_epoch) * options_.batch_size;
   for (int b = 0; b < options_.batch_size; ++b) {
     const std::string& file = files_[order[first + b]];
-    const SynthSample s = read_synth_sample(file);
+    const TrainingSample s = read_training_sample(file, options_.require_labels);
     check(s.width == width_ && s.height == height_, "sample '", file, "' is ", s.width, "x",
           s.height, " but the dataset's first sample is ", width_, "x", height_);
     batch.files.push_back(file);
@@ -75,13 +93,13 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
     const std::vector<float> eroded = erode_mask(s.mask, s.width, s.height);
     batch.mask.insert(batch.mask.end(), eroded.begin(), eroded.end());
     batch.visibility.insert(batch.visibility.end(), s.visibility.begin(), s.visibility.end());
-    for (double value : s.light) batch.light.push_back(static_cast<float>(value));
+    batch.light.insert(batch.light.end(), s.light.begin(), s.light.end());
   }
   return batch;
 }
 
 void DatasetReader::produce() {
-  for (int64_t batch_number = 0;; ++batch_number) {
+  for (int64_t batch_number = options_.start_batch;; ++batch_number) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [this] {

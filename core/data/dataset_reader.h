@@ -1,5 +1,6 @@
-// DatasetReader: shuffled batches of synthetic samples (facetool synth EXR files) as tensors,
-// decoded on a background thread while the caller trains.
+// DatasetReader: shuffled batches of samples (facetool synth EXR files, or real ones from
+// prepare-real / pseudo-label: core/data/training_sample.h) as tensors, decoded on a background
+// thread while the caller trains.
 #pragma once
 
 #include <condition_variable>
@@ -31,6 +32,15 @@ struct DatasetReaderOptions {
   uint64_t seed = 0;      // shuffle order: the same seed gives the same batches
   bool shuffle = true;
   int prefetch = 2;       // batches decoded ahead
+  // Held-out split by sample index (the number in sample_XXXXXXXX.exr): with holdout_every = k
+  // > 0, samples whose index % k == 0 form the validation part. `part` picks which part this
+  // reader serves; kAll ignores the split.
+  enum class Part { kAll, kTraining, kValidation };
+  int holdout_every = 0;
+  Part part = Part::kAll;
+  int64_t start_batch = 0;  // the first batch served (resuming: batches already consumed)
+  // Real samples (facetool-real-1) must carry pseudo labels; without, their labels are zeros.
+  bool require_labels = true;
 };
 
 class DatasetReader {
@@ -43,6 +53,7 @@ class DatasetReader {
   DatasetReader& operator=(const DatasetReader&) = delete;
 
   size_t sample_count() const { return files_.size(); }
+  const std::vector<std::string>& files() const { return files_; }
   int width() const { return width_; }
   int height() const { return height_; }
 

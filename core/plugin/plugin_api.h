@@ -5,7 +5,7 @@
 
 // Bumped whenever this descriptor or any plugin interface class (core/plugin/*_plugin.h)
 // changes; the loader refuses a plugin built for another version. History: docs/plugins.md.
-#define FACETOOL_PLUGIN_API_VERSION 1
+#define FACETOOL_PLUGIN_API_VERSION 2
 
 extern "C" {
 

@@ -1,4 +1,5 @@
 // `facetool bench <target>`: performance measurements: `ops` (the op table), `network`, `render`.
+#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -6,6 +7,7 @@
 #include "apps/facetool/bench/network_benchmarks.h"
 #include "apps/facetool/bench/op_benchmarks.h"
 #include "apps/facetool/bench/render_benchmarks.h"
+#include "apps/facetool/bench/train_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
@@ -22,6 +24,7 @@ struct BenchSettings {
   int width = 128;
   int input_size = 128;
   int train_batch = 20;
+  bool width_given = false;  // --width on the command line (bench train: else 32, 64, 128)
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -50,11 +53,26 @@ void bench_render(CommandContext& context, const BenchSettings& settings) {
   run_render_benchmarks(*renderer, backend, batch, settings.input_size, settings.repeats, std::cout);
 }
 
+void bench_train(CommandContext& context, const BenchSettings& settings) {
+  Backend& backend = get_backend(context.backend);
+  TrainBenchOptions options;
+  if (settings.width_given || settings.quick) options.widths = {settings.quick ? 8 : settings.width};
+  options.input_size = settings.quick ? 32 : settings.input_size;
+  options.batch = settings.quick ? 2 : settings.train_batch > 0 ? settings.train_batch : 20;
+  options.repeats = settings.quick ? 1 : std::min(settings.repeats, 3);
+  run_train_benchmarks(
+      [&] { return create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, "paper_network"); },
+      create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer"),
+      create_plugin<LossPlugin>(context, FACETOOL_PLUGIN_LOSS, "paper_losses"), backend, options,
+      std::cout);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
-      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render}};
+      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render},
+                 {"train", bench_train}};
   return targets;
 }
 
@@ -107,6 +125,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   if (settings.repeats < 1)
     throw UsageError("--repeats must be at least 1, got " + std::to_string(settings.repeats));
   settings.width = values["width"].as<int>();
+  settings.width_given = !values["width"].defaulted();
   settings.input_size = values["input-size"].as<int>();
   settings.train_batch = values["train-batch"].as<int>();
   if (values["quick"].as<bool>()) {
@@ -119,7 +138,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render",
+    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench train",
      run_bench}};
 
 }  // namespace

@@ -1,0 +1,134 @@
+// `facetool pseudo-label`: a trained network's albedo, normal, visibility and light written as
+// labels into real face samples, so stage 2 reads them like synthetic ones.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "apps/facetool/commands/command.h"
+#include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/commands/trained_model.h"
+#include "core/backend/registry.h"
+#include "core/data/training_sample.h"
+#include "core/inference/decomposer.h"
+#include "core/io/exr_io.h"
+#include "core/plugin/renderer_plugin.h"
+#include "core/synth/synth_sample.h"
+#include "core/util/progress_bar.h"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace facetool {
+namespace {
+
+// The input's channels (labels replaced) plus the predicted ones; attributes kept, light_sh set.
+LayeredImage labelled_sample(const FaceInput& in, const Decomposition& d, int index,
+                             const std::string& model) {
+  const int size = d.size;
+  const size_t plane = static_cast<size_t>(size) * size;
+  std::map<std::string, const float*> planes;  // name -> data, in the order written below
+  std::vector<std::string> names;
+  auto add = [&](const std::string& name, const float* data) {
+    if (!planes.count(name)) names.push_back(name);
+    planes[name] = data;
+  };
+  if (in.sample) {
+    for (int c = 0; c < in.file.channel_count(); ++c) add(in.file.channel_names[c], in.file.plane(c));
+  } else {
+    const char* rgb[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) add(rgb[c], in.image.data() + c * plane);
+    add("mask", in.mask.data());
+  }
+  const char* albedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
+  const char* normal[3] = {"normal.X", "normal.Y", "normal.Z"};
+  for (int c = 0; c < 3; ++c) {
+    add(albedo[c], d.albedo.data() + (static_cast<size_t>(index) * 3 + c) * plane);
+    add(normal[c], d.normal.data() + (static_cast<size_t>(index) * 3 + c) * plane);
+  }
+  for (int j = 0; j < 9; ++j)
+    add("visibility." + std::to_string(j),
+        d.visibility.data() + (static_cast<size_t>(index) * 9 + j) * plane);
+  LayeredImage out(size, size, names);
+  for (size_t k = 0; k < names.size(); ++k)
+    std::copy(planes[names[k]], planes[names[k]] + plane, out.plane(static_cast<int>(k)));
+  if (in.sample) out.metadata = in.file.metadata;
+  // Pseudo labels are not ground truth: the result is a real sample whatever the input was.
+  out.set_metadata("facetool:generator_version", kRealSampleVersion);
+  if (!out.find_metadata("facetool:source")) out.set_metadata("facetool:source", in.path);
+  std::string light;
+  char buffer[40];
+  for (int k = 0; k < 27; ++k) {
+    std::snprintf(buffer, sizeof buffer, "%.9g", d.light[static_cast<size_t>(index) * 27 + k]);
+    light += (k ? " " : "") + std::string(buffer);
+  }
+  out.set_metadata("facetool:light_sh", light);
+  out.set_metadata("facetool:pseudo_labels", model);
+  return out;
+}
+
+int run_pseudo_label(CommandContext& context, const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  std::string model, out_dir;
+  int batch = 8;
+  options.add_options()
+      ("model", po::value(&model)->value_name("WEIGHTS")->required(),
+       "trained weights (stage 1's weights.safetensors)")
+      ("output,o", po::value(&out_dir)->value_name("DIR")->required(), "output folder")
+      ("batch", po::value(&batch)->default_value(8), "images per network run");
+  po::options_description hidden;
+  hidden.add_options()("images", po::value<std::vector<std::string>>(), "inputs");
+  po::positional_options_description positional;
+  positional.add("images", -1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "pseudo-label --model WEIGHTS INPUT... -o DIR",
+          "Runs a trained network on real face samples and writes them to DIR with the predicted "
+          "albedo, normal,\nvisibility and light as labels (channels albedo.*, normal.*, "
+          "visibility.0..8, attribute facetool:light_sh),\nso that stage 2 reads them like "
+          "synthetic samples. Inputs: sample EXRs of `facetool prepare-real`\n(kept whole, same "
+          "file name, their mask used) or plain face crops (PNG/JPEG decoded from sRGB,\nresized; "
+          "written as sample_<n>.exr in input order with a mask of 1 everywhere).",
+          options, positional, args, values, hidden))
+    return 0;
+  if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
+  if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
+  const auto files = values["images"].as<std::vector<std::string>>();
+  for (const std::string& f : files)
+    check(fs::is_regular_file(f), "input '", f, "' does not exist or is not a file");
+
+  Backend& backend = get_backend(context.backend);
+  auto network = load_trained_network(context, backend, model);
+  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
+  Decomposer decomposer(*network, *renderer);
+  const int size = network->config().input_size;
+  fs::create_directories(out_dir);
+  ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "images");
+  for (size_t first = 0; first < files.size(); first += batch) {
+    const int count = static_cast<int>(std::min(files.size() - first, static_cast<size_t>(batch)));
+    std::vector<FaceInput> inputs;
+    std::vector<float> planes;
+    for (int i = 0; i < count; ++i) {
+      inputs.push_back(load_face_input(files[first + i], size));
+      planes.insert(planes.end(), inputs.back().image.begin(), inputs.back().image.end());
+    }
+    const Decomposition d = decomposer.run(backend, planes, count);
+    for (int i = 0; i < count; ++i) {
+      const std::string name = inputs[i].sample
+                                   ? fs::path(files[first + i]).filename().string()
+                                   : synth_sample_file_name(static_cast<int64_t>(first + i));
+      write_exr_atomically((fs::path(out_dir) / name).string(), labelled_sample(inputs[i], d, i, model));
+    }
+    progress.advance(count);
+  }
+  progress.finish();
+  std::cerr << "wrote " << files.size() << " pseudo-labelled samples to " << out_dir << "\n";
+  return 0;
+}
+
+const CommandRegistration registration{
+    {"pseudo-label", "write a trained network's predictions as labels of real face samples (stage 2)",
+     run_pseudo_label}};
+
+}  // namespace
+}  // namespace facetool

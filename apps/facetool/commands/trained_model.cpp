@@ -1,0 +1,65 @@
+// Loading trained weights and face inputs (sample EXRs or plain crops) for pseudo-label and eval.
+#include "apps/facetool/commands/trained_model.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/image/resize.h"
+#include "core/io/exr_io.h"
+#include "core/io/image_io.h"
+#include "core/model/network_weights.h"
+
+namespace facetool {
+
+std::shared_ptr<NetworkPlugin> load_trained_network(CommandContext& context, Backend& backend,
+                                                    const std::string& weights_path) {
+  const SafeTensors weights = SafeTensors::read_file(weights_path);
+  const WeightsHeader header = read_weights_header(weights, weights_path);
+  auto network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, header.architecture);
+  network->build(backend, header.config);
+  load_network_weights(*network, weights, weights_path);
+  return network;
+}
+
+FaceInput load_face_input(const std::string& path, int size) {
+  FaceInput in;
+  in.path = path;
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".exr") {
+    const LayeredImage header = read_exr_header(path, "facetool:");
+    if (header.find_metadata("facetool:generator_version") != nullptr) {
+      in.sample = true;
+      in.file = read_exr(path, "facetool:");
+      check(in.file.width == size && in.file.height == size, "sample '", path, "' is ",
+            in.file.width, "x", in.file.height, " but the network takes ", size, "x", size,
+            "; make samples of that size (--size ", size, ")");
+      const size_t plane = in.file.plane_size();
+      for (const char* name : {"R", "G", "B"}) {
+        const float* p = in.file.plane(in.file.require_channel(name, path));
+        in.image.insert(in.image.end(), p, p + plane);
+      }
+      const int mask = in.file.find_channel("mask");
+      if (mask >= 0)
+        in.mask.assign(in.file.plane(mask), in.file.plane(mask) + plane);
+      else
+        in.mask.assign(plane, 1.0f);
+      for (float v : in.image)
+        check(std::isfinite(v), "sample '", path, "' holds a NaN or infinite pixel");
+      return in;
+    }
+  }
+  const RgbImage image = read_rgb_image(path, !(ext == ".exr" || ext == ".hdr"));
+  const size_t plane = static_cast<size_t>(image.width) * image.height;
+  std::vector<float> planar(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = image.pixels[p * 3 + c];
+      check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
+      planar[c * plane + p] = v;
+    }
+  in.image = resize_planar(planar, 3, image.width, image.height, size, size);
+  in.mask.assign(static_cast<size_t>(size) * size, 1.0f);
+  return in;
+}
+
+}  // namespace facetool

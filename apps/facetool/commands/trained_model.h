@@ -1,0 +1,31 @@
+// Helpers of pseudo-label and eval: a trained network from a weights file, face inputs as planes.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/facetool/commands/command.h"
+#include "core/backend/backend.h"
+#include "core/io/layered_image.h"
+#include "core/plugin/network_plugin.h"
+
+namespace facetool {
+
+// Creates the weights' architecture, builds it with their configuration and loads them.
+std::shared_ptr<NetworkPlugin> load_trained_network(CommandContext& context, Backend& backend,
+                                                    const std::string& weights_path);
+
+// One face input at the network's size: a sample EXR (synthetic or real, kept whole in `file`
+// so its channels and attributes can be written back) or a plain crop (PNG/JPEG as sRGB,
+// EXR/HDR as linear), resized, with a full mask (every pixel is face).
+struct FaceInput {
+  std::string path;
+  bool sample = false;      // a facetool sample EXR (synthetic or real)
+  LayeredImage file;        // the sample's content (sample only)
+  std::vector<float> image; // [3][S*S] linear RGB
+  std::vector<float> mask;  // [S*S]
+};
+FaceInput load_face_input(const std::string& path, int size);
+
+}  // namespace facetool

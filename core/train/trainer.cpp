@@ -1,0 +1,194 @@
+// Trainer: the step loop body, NaN/Inf detection, validation by normal angular error.
+#include "core/train/trainer.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/autograd/functions.h"
+
+namespace facetool {
+
+struct Trainer::Source {
+  const DataSource* config = nullptr;
+  std::vector<std::pair<const WeightedTerm*, LossPlugin*>> terms;
+  std::unique_ptr<DatasetReader> reader;  // created at the first step (after restore)
+};
+
+namespace {
+
+LossTargets targets_of(const SyntheticBatch& b, const DataSource& source) {
+  LossTargets t;
+  t.image = b.image;
+  t.mask = b.mask;
+  if (source.provides() & kNeedsAlbedo) {
+    t.albedo = b.albedo;
+    t.normal = b.normal;
+    t.visibility = b.visibility;
+    t.light = b.light;
+  }
+  return t;
+}
+
+DatasetReaderOptions reader_options(const TrainingConfig& c, const DataSource& s, bool validation) {
+  DatasetReaderOptions o;
+  o.directory = s.directory;
+  o.batch_size = s.batch;
+  o.seed = c.seed;
+  o.shuffle = !validation;
+  o.require_labels = s.kind != "real";
+  o.holdout_every = c.validation_holdout_every;
+  o.part = c.validation_holdout_every == 0 ? DatasetReaderOptions::Part::kAll
+           : validation                    ? DatasetReaderOptions::Part::kValidation
+                                           : DatasetReaderOptions::Part::kTraining;
+  return o;
+}
+
+}  // namespace
+
+Trainer::Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<NetworkPlugin> network,
+                 std::shared_ptr<RendererPlugin> renderer,
+                 std::vector<std::shared_ptr<LossPlugin>> losses)
+    : backend_(backend),
+      config_(std::move(config)),
+      network_(std::move(network)),
+      renderer_(std::move(renderer)),
+      losses_(std::move(losses)) {
+  std::vector<LossTermInfo> available;
+  for (const auto& plugin : losses_)
+    for (const LossTermInfo& t : plugin->terms()) available.push_back(t);
+  check_terms(config_, available);
+  for (const DataSource& s : config_.sources) {
+    auto source = std::make_unique<Source>();
+    source->config = &s;
+    for (const WeightedTerm& t : s.terms) {
+      LossPlugin* provider = nullptr;
+      for (const auto& plugin : losses_)
+        for (const LossTermInfo& info : plugin->terms())
+          if (!provider && info.name == t.name) provider = plugin.get();
+      source->terms.emplace_back(&t, provider);  // check_terms() found every one
+    }
+    sources_.push_back(std::move(source));
+  }
+  network_->build(backend_, NetworkConfig{config_.width, config_.input_size});
+  network_->init_random(config_.seed);
+  AdamParams p;
+  p.lr = static_cast<float>(config_.learning_rate);
+  p.beta1 = static_cast<float>(config_.beta1);
+  p.beta2 = static_cast<float>(config_.beta2);
+  p.eps = static_cast<float>(config_.epsilon);
+  optimizer_ = std::make_unique<AdamOptimizer>(network_->parameters(), p);
+}
+
+Trainer::~Trainer() = default;
+
+void Trainer::restore(const std::string& checkpoint_path) {
+  const CheckpointState s = read_checkpoint_state(checkpoint_path);
+  check(s.architecture == config_.network && s.network.width == config_.width &&
+            s.network.input_size == config_.input_size,
+        "checkpoint '", checkpoint_path, "' holds a ", s.architecture, " of width ",
+        s.network.width, " and input ", s.network.input_size, ", but '", config_.path,
+        "' asks for a ", config_.network, " of width ", config_.width, " and input ",
+        config_.input_size);
+  step_ = load_checkpoint(checkpoint_path, *network_, *optimizer_).step;
+  for (auto& source : sources_) source->reader.reset();
+}
+
+void Trainer::save(const std::string& checkpoint_path) const {
+  CheckpointState s;
+  s.step = step_;
+  s.seed = config_.seed;
+  s.config_name = config_.name;
+  s.architecture = config_.network;
+  s.network = network_->config();
+  save_checkpoint(checkpoint_path, *network_, *optimizer_, s);
+}
+
+StepRecord Trainer::step() {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  StepRecord record;
+  record.step = step_ + 1;
+  ag::Variable total;
+  for (auto& source : sources_) {
+    const auto wait = Clock::now();
+    if (!source->reader) {
+      DatasetReaderOptions o = reader_options(config_, *source->config, false);
+      o.start_batch = step_;
+      source->reader = std::make_unique<DatasetReader>(backend_, o);
+      check(source->reader->width() == config_.input_size &&
+                source->reader->height() == config_.input_size,
+            "source '", source->config->name, "' holds ", source->reader->width(), "x",
+            source->reader->height(), " samples but the network takes ", config_.input_size, "x",
+            config_.input_size, "; set network.input_size in '", config_.path, "'");
+    }
+    const SyntheticBatch batch = source->reader->next();
+    record.seconds_data += std::chrono::duration<double>(Clock::now() - wait).count();
+    record.images += batch.image.shape().n();
+    const NetworkOutputs out = network_->forward(ag::Variable(batch.image), true);
+    const LossTargets targets = targets_of(batch, *source->config);
+    for (const auto& [term, plugin] : source->terms) {
+      const ag::Variable value = plugin->evaluate(term->name, out, targets, *renderer_);
+      const double v = value.value().to_host()[0];
+      const std::string label = source->config->name + "/" + term->name;
+      if (!std::isfinite(v))
+        throw TrainingDiverged("training diverged at step " + std::to_string(record.step) +
+                               ": loss term '" + label + "' is " + std::to_string(v) +
+                               "; the weights were not updated and the last checkpoint is kept");
+      record.terms.emplace_back(label, v);
+      record.total += term->weight * v;
+      if (term->weight == 0.0) continue;
+      const ag::Variable weighted = ag::scale(value, static_cast<float>(term->weight));
+      total = total.defined() ? ag::add(total, weighted) : weighted;
+    }
+  }
+  if (total.defined()) total.backward();
+  optimizer_->step();
+  ++step_;
+  record.seconds_total = std::chrono::duration<double>(Clock::now() - start).count();
+  return record;
+}
+
+ValidationRecord Trainer::validate() {
+  ValidationRecord r;
+  r.step = step_;
+  const DataSource* labelled = nullptr;
+  for (const DataSource& s : config_.sources)
+    if (!labelled && s.kind != "real") labelled = &s;
+  if (!labelled || config_.validation_holdout_every == 0) return r;
+  DatasetReader reader(backend_, reader_options(config_, *labelled, true));
+  double sum = 0.0, sum_sq = 0.0;
+  const double kDegrees = 180.0 / 3.14159265358979323846;
+  for (int b = 0; b < config_.validation_batches; ++b) {
+    const SyntheticBatch batch = reader.next();
+    if (b > 0 && batch.epoch > 0) break;  // the validation part is smaller than asked for
+    const NetworkOutputs out = network_->forward(ag::Variable(batch.image), false);
+    const std::vector<float> pred = out.normal.value().to_host(), target = batch.normal.to_host(),
+                             mask = batch.mask.to_host();
+    const Shape& s = batch.normal.shape();
+    const int64_t plane = s.h() * s.w();
+    for (int64_t n = 0; n < s.n(); ++n)
+      for (int64_t p = 0; p < plane; ++p) {
+        if (mask[n * plane + p] <= 0.5f) continue;
+        double dot = 0.0, lp = 0.0, lt = 0.0;
+        for (int c = 0; c < 3; ++c) {
+          const double a = pred[(n * 3 + c) * plane + p], t = target[(n * 3 + c) * plane + p];
+          dot += a * t;
+          lp += a * a;
+          lt += t * t;
+        }
+        const double cosine = std::fmax(-1.0, std::fmin(1.0, dot / std::sqrt(lp * lt + 1e-30)));
+        const double angle = std::acos(cosine) * kDegrees;
+        sum += angle;
+        sum_sq += angle * angle;
+        ++r.pixels;
+      }
+  }
+  if (r.pixels > 0) {
+    r.normal_error_mean_deg = sum / r.pixels;
+    r.normal_error_std_deg =
+        std::sqrt(std::fmax(0.0, sum_sq / r.pixels - r.normal_error_mean_deg * r.normal_error_mean_deg));
+  }
+  return r;
+}
+
+}  // namespace facetool

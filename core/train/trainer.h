@@ -1,0 +1,78 @@
+// Trainer: one training stage's steps (data, network, loss terms, renderer, Adam), validation, checkpoints.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/data/dataset_reader.h"
+#include "core/plugin/loss_plugin.h"
+#include "core/plugin/network_plugin.h"
+#include "core/plugin/renderer_plugin.h"
+#include "core/train/adam_optimizer.h"
+#include "core/train/checkpoint.h"
+#include "core/train/training_config.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+// A NaN or infinite loss: training stops before the optimiser touches the weights.
+class TrainingDiverged : public Error {
+ public:
+  using Error::Error;
+};
+
+struct StepRecord {
+  int64_t step = 0;  // 1-based number of the step just taken
+  double total = 0;  // weighted sum of every term of every source
+  std::vector<std::pair<std::string, double>> terms;  // "source/term" -> unweighted value
+  int64_t images = 0;
+  double seconds_data = 0, seconds_total = 0;  // waiting for batches / the whole step
+};
+
+struct ValidationRecord {
+  int64_t step = 0;
+  int64_t pixels = 0;
+  double normal_error_mean_deg = 0, normal_error_std_deg = 0;
+};
+
+class Trainer {
+ public:
+  // The network is built here from the configuration (width, input size) and initialised with
+  // `init_seed` unless restore() or load weights follow. Every term named in the configuration
+  // must be provided by one of `losses` (checked here, before any step).
+  Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<NetworkPlugin> network,
+          std::shared_ptr<RendererPlugin> renderer,
+          std::vector<std::shared_ptr<LossPlugin>> losses);
+  ~Trainer();
+
+  // Continues from a checkpoint: weights, moments, step, data position.
+  void restore(const std::string& checkpoint_path);
+  void save(const std::string& checkpoint_path) const;
+
+  // One optimiser step over one batch of every source. Throws TrainingDiverged naming the step
+  // and term when a loss is not finite (the weights are left as they were).
+  StepRecord step();
+  // Mean normal angular error over the validation part of the first labelled source.
+  ValidationRecord validate();
+
+  int64_t steps_done() const { return step_; }
+  const TrainingConfig& config() const { return config_; }
+  NetworkPlugin& network() { return *network_; }
+
+ private:
+  struct Source;
+  Backend& backend_;
+  TrainingConfig config_;
+  std::shared_ptr<NetworkPlugin> network_;
+  std::shared_ptr<RendererPlugin> renderer_;
+  std::vector<std::shared_ptr<LossPlugin>> losses_;
+  std::vector<std::unique_ptr<Source>> sources_;
+  std::unique_ptr<AdamOptimizer> optimizer_;
+  int64_t step_ = 0;
+};
+
+}  // namespace facetool

@@ -1,0 +1,53 @@
+// TrainingConfig: one training stage read from a JSON file (docs/training.md), checked before step 1.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/plugin/loss_plugin.h"
+
+namespace facetool {
+
+struct WeightedTerm {
+  std::string name;  // a term of a loaded loss plugin, e.g. "recon_albedo"
+  double weight = 0;
+};
+
+// One part of each step's batch: `batch` samples from `directory`, scored by `terms`.
+struct DataSource {
+  std::string name;       // e.g. "synthetic", "real"; used in the log ("synthetic/recon_albedo")
+  std::string kind;       // "synthetic" (all labels), "pseudo_labelled" (all, predicted), "real"
+                          // (image and mask only)
+  std::string directory;  // relative paths are taken from the configuration file's folder
+  int batch = 20;
+  std::vector<WeightedTerm> terms;
+  uint32_t provides() const;  // LossNeeds bits the kind supplies
+};
+
+struct TrainingConfig {
+  std::string path;  // the file it came from (for messages)
+  std::string name;
+  std::string network = "paper_network";
+  int width = 128, input_size = 128;
+  std::string renderer = "sh_renderer";
+  double learning_rate = 1e-4, beta1 = 0.9, beta2 = 0.999, epsilon = 1e-8;
+  int64_t steps = 1000;
+  int64_t checkpoint_every = 1000;
+  int64_t validation_every = 1000;
+  int validation_holdout_every = 20;  // sample index % k == 0 is held out (0: no validation)
+  int validation_batches = 4;
+  uint64_t seed = 0;
+  std::vector<DataSource> sources;
+};
+
+// Reads and checks the file: JSON syntax, known keys only, types and ranges. Throws
+// facetool::Error naming the file and the key at fault.
+TrainingConfig read_training_config(const std::string& path);
+TrainingConfig parse_training_config(const std::string& json_text, const std::string& path);
+
+// Checks every source's terms against the loaded terms: unknown names (listing the known ones)
+// and terms needing inputs the source's kind lacks. Throws facetool::Error.
+void check_terms(const TrainingConfig& config, const std::vector<LossTermInfo>& available);
+
+}  // namespace facetool
