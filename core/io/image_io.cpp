@@ -8,6 +8,8 @@
 #include <cstdint>
 
 #include "core/io/atomic_file.h"
+#include "core/io/image_encoding.h"
+#include "core/io/input_file.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -24,17 +26,31 @@ float srgb_to_linear(float encoded) {
   return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
 }
 
+void check_image_size(const std::string& path, const std::string& kind, int64_t width,
+                      int64_t height, int64_t channels) {
+  check(width > 0 && height > 0 && channels > 0, kind, " '", path, "' is empty (", width, "x",
+        height, ", ", channels, " channels); replace it with a valid file");
+  check(width <= kMaxImageSide && height <= kMaxImageSide && channels <= kMaxImageChannels &&
+            width * height <= kMaxImagePixels,
+        kind, " '", path, "' says it is ", width, "x", height, " with ", channels,
+        " channels, more than facetool reads (at most ", kMaxImageSide, " pixels a side, ",
+        kMaxImagePixels, " pixels, ", kMaxImageChannels,
+        " channels); the file is damaged or too large: shrink it first");
+}
+
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
+  check_input_file(path, "image");
   auto input = OIIO::ImageInput::open(path);
   if (!input)
     fail("cannot read image '", path, "': ", OIIO::geterror(),
-         " (check that the file exists and is an image OpenImageIO can read)");
+         " (check that the file is a complete image OpenImageIO can read)");
   const OIIO::ImageSpec& spec = input->spec();
-  check(spec.width > 0 && spec.height > 0 && spec.nchannels > 0, "image '", path, "' is empty");
+  check_image_size(path, "image", spec.width, spec.height, spec.nchannels);
   const int channels = spec.nchannels;
   std::vector<float> raw(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
-    fail("cannot read the pixels of image '", path, "': ", input->geterror());
+    fail("cannot read the pixels of image '", path, "': ", input->geterror(),
+         " (the file is truncated or damaged: replace it)");
   input->close();
   RgbImage image;
   image.width = spec.width;
@@ -51,7 +67,8 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   return image;
 }
 
-void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
+std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
+                                      bool encode_srgb) {
   check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
   std::vector<uint8_t> bytes(rgb.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
@@ -59,15 +76,13 @@ void write_png_atomically(const std::string& path, const RgbImage& rgb, bool enc
                                 : std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
     bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
   }
-  write_atomically(path, [&](const std::string& temp_path) {
-    auto output = OIIO::ImageOutput::create("png");
-    check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());
-    OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
-    if (!output->open(temp_path, spec)) fail("cannot create '", temp_path, "': ", output->geterror());
-    if (!output->write_image(OIIO::TypeDesc::UINT8, bytes.data()))
-      fail("cannot write '", temp_path, "': ", output->geterror());
-    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
-  });
+  const OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
+  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
+  const std::vector<unsigned char> encoded = encode_png(path, rgb, encode_srgb);
+  write_file_atomically(path, encoded.data(), encoded.size());
 }
 
 }  // namespace facetool

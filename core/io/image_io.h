@@ -1,6 +1,7 @@
 // Reading ordinary images (HDR, EXR, PNG, JPEG, ...) as float RGB and writing 8-bit PNGs.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,16 @@ struct RgbImage {
 // `decode_srgb` to convert them to linear. Throws facetool::Error naming the file.
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
 
+// The largest images facetool reads: a header claiming more (a damaged or hostile file) is
+// refused before any memory is allocated.
+constexpr int64_t kMaxImageSide = 32768;
+constexpr int64_t kMaxImagePixels = int64_t{1} << 27;  // 128 Mpixel
+constexpr int64_t kMaxImageChannels = 64;
+// Throws facetool::Error naming `path` ("<kind> 'path' ...") when the size is empty or over the
+// limits above.
+void check_image_size(const std::string& path, const std::string& kind, int64_t width,
+                      int64_t height, int64_t channels);
+
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
@@ -31,5 +42,8 @@ float srgb_to_linear(float encoded);
 // atomically (temporary name, then rename). With encode_srgb = false the values are written as
 // they are (for data pictures such as normals encoded as (n + 1) / 2); NaN becomes 0.
 void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb = true);
+// The bytes write_png_atomically writes (`path` names the file in errors).
+std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
+                                      bool encode_srgb = true);
 
 }  // namespace facetool

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/io/input_file.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -146,6 +147,7 @@ ObjMesh parse_obj(const std::string& text, const std::string& source_name) {
 }
 
 ObjMesh read_obj(const std::string& path) {
+  check_input_file(path, "OBJ file");
   std::ifstream file(path, std::ios::binary);
   check(file.good(), "cannot open OBJ file '", path, "': check the path and its permissions");
   std::ostringstream contents;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/atomic_file.h"
+#include "core/io/input_file.h"
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/illumination_from_shading.h"
 #include "core/sh/sh_basis.h"
@@ -47,15 +48,6 @@ std::string text_of(const std::vector<double>& values, size_t per_line) {
   for (size_t i = 0; i < values.size(); ++i)
     out << values[i] << ((i + 1) % per_line == 0 ? "\n" : " ");
   return out.str();
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  write_atomically(path, [&](const std::string& temporary) {
-    std::ofstream out(temporary);
-    out << text;
-    out.close();
-    check(out.good(), "cannot write light file '", path, "'");
-  });
 }
 
 // Attenuated-basis coefficients s (shading sum_i s_i A_l Y_i(n), image albedo * shading) to
@@ -190,6 +182,7 @@ sh::Vec3 dpr_to_world(const sh::Vec3& d) {
 }
 
 LightFile read_light(const std::string& path, const Format* format) {
+  check_input_file(path, "light file");
   const Format f = format ? *format : guess_format(path);
   LightFile file;
   if (f == Format::Facetool) {
@@ -205,7 +198,9 @@ LightFile read_light(const std::string& path, const Format* format) {
           "' is not a facetool light (its \"format\" is not \"facetool-light\")");
     check(j.value("version", 0) == 1, "light file '", path, "' has version ",
           j.value("version", 0), "; this facetool reads version 1");
-    const auto& coeffs = j.at("coefficients");
+    check(j.contains("coefficients") && j["coefficients"].is_object(), "light file '", path,
+          "' has no \"coefficients\" object with r, g and b arrays");
+    const auto& coeffs = j["coefficients"];
     const char* channels[3] = {"r", "g", "b"};
     for (int c = 0; c < 3; ++c) {
       check(coeffs.contains(channels[c]) && coeffs[channels[c]].is_array() &&
@@ -216,6 +211,8 @@ LightFile read_light(const std::string& path, const Format* format) {
         check(v.is_number(), "light file '", path, "': coefficients.", channels[c], "[", i,
               "] is not a number");
         file.light[c * 9 + i] = v.get<double>();
+        check(std::isfinite(file.light[c * 9 + i]), "light file '", path, "': coefficients.",
+              channels[c], "[", i, "] is not finite (", v.dump(), "); fix the file");
       }
     }
     if (j.contains("metadata") && j["metadata"].is_object())
@@ -241,11 +238,12 @@ LightFile read_light(const std::string& path, const Format* format) {
   return file;
 }
 
-void write_light(const std::string& path, const LightFile& file, Format format) {
+std::string encode_light(const std::string& path, const LightFile& file, Format format) {
   for (double v : file.light)
     check(std::isfinite(v), "refusing to write light '", path, "': it holds a non-finite value");
   if (format == Format::Facetool) {
-    nlohmann::json j;
+    // Keys in the order written here (r, g, b), not sorted.
+    nlohmann::ordered_json j;
     j["format"] = "facetool-light";
     j["version"] = 1;
     j["basis"] = "real SH, degree <= 2, index l(l+1)+m, orthonormal, no Condon-Shortley phase";
@@ -255,15 +253,20 @@ void write_light(const std::string& path, const LightFile& file, Format format) 
       std::vector<double> v(file.light.begin() + c * 9, file.light.begin() + c * 9 + 9);
       j["coefficients"][channels[c]] = v;
     }
-    j["metadata"] = file.metadata;
-    write_text_atomically(path, j.dump(2) + "\n");
-  } else if (format == Format::Sfsnet) {
-    const auto values = to_sfsnet(file.light);
-    write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 9));
-  } else {
-    const auto values = to_dpr(file.light);
-    write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 1));
+    j["metadata"] = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : file.metadata) j["metadata"][key] = value;
+    return j.dump(2) + "\n";
   }
+  if (format == Format::Sfsnet) {
+    const auto values = to_sfsnet(file.light);
+    return text_of(std::vector<double>(values.begin(), values.end()), 9);
+  }
+  const auto values = to_dpr(file.light);
+  return text_of(std::vector<double>(values.begin(), values.end()), 1);
+}
+
+void write_light(const std::string& path, const LightFile& file, Format format) {
+  write_text_atomically(path, encode_light(path, file, format));
 }
 
 }  // namespace facetool::light

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/atomic_file.h"
+#include "core/io/input_file.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -36,6 +37,7 @@ uint64_t read_u64_le(const uint8_t* p) {
 }  // namespace
 
 SafeTensors SafeTensors::read_file(const std::string& path) {
+  check_input_file(path, "weights file");
   std::ifstream in(path, std::ios::binary);
   check(in.good(), "cannot open weights file '", path, "': ",
         std::filesystem::exists(path) ? "permission denied or not a file" : "no such file");
@@ -182,14 +184,7 @@ std::vector<uint8_t> SafeTensorsWriter::serialize() const {
 
 void SafeTensorsWriter::write_file(const std::string& path) const {
   const std::vector<uint8_t> bytes = serialize();
-  write_atomically(path, [&](const std::string& temporary) {
-    FILE* f = std::fopen(temporary.c_str(), "wb");
-    check(f != nullptr, "cannot write '", path, "': ", std::strerror(errno),
-          " (does the folder exist and is it writable?)");
-    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    const bool closed = std::fclose(f) == 0;
-    check(ok && closed, "cannot write '", path, "': ", std::strerror(errno), " (disk full?)");
-  });
+  write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace facetool

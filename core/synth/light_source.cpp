@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/io/input_file.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_rotation.h"
@@ -66,6 +67,7 @@ LightSource load_light_file(const fs::path& path) {
 }  // namespace
 
 sh::RgbLight read_sh_light_file(const std::string& path) {
+  check_input_file(path, "SH light file");
   std::ifstream file(path);
   check(file.good(), "cannot open SH light file '", path, "'");
   std::vector<double> values;

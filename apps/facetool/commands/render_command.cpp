@@ -56,15 +56,15 @@ void check_same_size(const ComponentImage& image, const ComponentImage& referenc
         "; all component images must have the same size");
 }
 
-// Writes a [3,H,W] planar result to `temporary` as PNG or EXR.
-void write_result(const std::string& temporary, const std::vector<float>& planes, int width,
-                  int height, bool exr, const std::string& description) {
+// A [3,H,W] planar result encoded as the PNG or EXR file `path`.
+FileContents encode_result(const std::string& path, const std::vector<float>& planes, int width,
+                           int height, bool exr, const std::string& description) {
   const size_t plane = static_cast<size_t>(width) * height;
   if (exr) {
     LayeredImage image(width, height, {"R", "G", "B"});
     std::copy(planes.begin(), planes.end(), image.pixels.begin());
     image.set_metadata("facetool:content", description);
-    write_exr_atomically(temporary, image);
+    return {path, encode_exr(path, image)};
   } else {
     RgbImage image;
     image.width = width;
@@ -72,7 +72,7 @@ void write_result(const std::string& temporary, const std::vector<float>& planes
     image.pixels.resize(plane * 3);
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = planes[c * plane + p];
-    write_png_atomically(temporary, image);
+    return {path, encode_png(path, image)};
   }
 }
 
@@ -176,22 +176,12 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
   const std::vector<float> image = outputs.image.to_host();
   const std::vector<float> shading = outputs.shading.to_host();
 
-  // Both files appear only once both are complete.
-  const std::string image_temporary = temporary_path_for(paths.image);
-  const std::string shading_temporary = temporary_path_for(paths.shading);
-  try {
-    write_result(image_temporary, image, width, height, paths.exr,
-                 "image = albedo * shading, linear RGB, rendered by " + renderer_name);
-    write_result(shading_temporary, shading, width, height, paths.exr,
-                 "shading, linear RGB, rendered by " + renderer_name);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(image_temporary, ec);
-    std::filesystem::remove(shading_temporary, ec);
-    throw;
-  }
-  commit_temporary(image_temporary, paths.image);
-  commit_temporary(shading_temporary, paths.shading);
+  // Both files appear only once both are complete; on failure neither is touched.
+  write_files_atomically(
+      {encode_result(paths.image, image, width, height, paths.exr,
+                     "image = albedo * shading, linear RGB, rendered by " + renderer_name),
+       encode_result(paths.shading, shading, width, height, paths.exr,
+                     "shading, linear RGB, rendered by " + renderer_name)});
 
   const size_t count = rendered.empty() ? pixels : std::count(rendered.begin(), rendered.end(), 1);
   float shading_max = 0.0f;
