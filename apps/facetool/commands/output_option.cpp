@@ -1,0 +1,25 @@
+// -o / --output (alias --out) for every command that writes files.
+#include "apps/facetool/commands/output_option.h"
+
+#include "apps/facetool/commands/command.h"
+
+namespace po = boost::program_options;
+
+namespace facetool {
+
+void add_output_option(po::options_description& options, po::options_description& hidden,
+                       std::string* target, const std::string& value_name,
+                       const std::string& description) {
+  options.add_options()("output,o", po::value(target)->value_name(value_name),
+                        (description + " (--out is accepted too)").c_str());
+  hidden.add_options()("out", po::value(target)->value_name(value_name), "alias of --output");
+}
+
+void check_output_option(const po::variables_map& values, const std::string& command,
+                         const std::string& what) {
+  const size_t given = values.count("output") + values.count("out");
+  if (given > 1) throw UsageError(command + ": give -o/--output (or --out) only once");
+  if (given == 0) throw UsageError(command + ": give " + what);
+}
+
+}  // namespace facetool
