@@ -192,7 +192,12 @@ LightFile read_light(const std::string& path, const Format* format) {
     try {
       j = nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& e) {
-      fail("light file '", path, "' is not valid JSON: ", e.what());
+      // nlohmann's messages start with "[json.exception.<kind>.<id>] "; keep the reason.
+      const std::string what = e.what();
+      const size_t reason = what.find("] ");
+      fail("light file '", path, "' is not valid JSON: ",
+           reason == std::string::npos ? what : what.substr(reason + 2),
+           "; fix the file or write it again with facetool light convert");
     }
     check(j.is_object() && j.value("format", "") == "facetool-light", "light file '", path,
           "' is not a facetool light (its \"format\" is not \"facetool-light\")");

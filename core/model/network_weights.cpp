@@ -1,6 +1,7 @@
 // Network weights: safetensors <-> network plugin parameters, with strict checks.
 #include "core/model/network_weights.h"
 
+#include <cmath>
 #include <set>
 
 #include "core/util/error.h"
@@ -41,7 +42,12 @@ void load_tensor(const SafeTensors& file, const std::string& path, const std::st
     fail("weights file '", path, "': tensor '", name, "' has shape ", got, "] but the network ",
          "needs ", target.shape().str());
   }
-  target.copy_from_host(file.floats(name));
+  const std::vector<float> values = file.floats(name);
+  for (size_t k = 0; k < values.size(); ++k)
+    check(std::isfinite(values[k]), "weights file '", path, "': tensor '", name, "' holds a ",
+          std::isnan(values[k]) ? "NaN" : "infinite", " value at element ", k,
+          " (a diverged or damaged training run: use an earlier checkpoint)");
+  target.copy_from_host(values);
 }
 
 }  // namespace

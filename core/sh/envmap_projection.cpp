@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "core/io/image_io.h"
+#include "core/io/input_file.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
 
@@ -14,6 +16,7 @@ constexpr double kPi = ShConstants::kPi;
 }
 
 EnvironmentMap read_environment_map(const std::string& path) {
+  check_input_file(path, "environment map");
   auto input = OIIO::ImageInput::open(path);
   if (!input) {
     fail("environment map '", path, "' cannot be read: ", OIIO::geterror(),
@@ -21,7 +24,7 @@ EnvironmentMap read_environment_map(const std::string& path) {
   }
   const OIIO::ImageSpec& spec = input->spec();
   const int channels = spec.nchannels;
-  check(spec.width > 0 && spec.height > 0, "environment map '", path, "' is empty");
+  check_image_size(path, "environment map", spec.width, spec.height, channels);
   check(channels == 1 || channels >= 3, "environment map '", path, "' has ", channels,
         " channels; give a grey (1) or RGB(A) (3 or more) image");
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);

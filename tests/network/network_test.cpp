@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "core/autograd/functions.h"
@@ -144,6 +145,24 @@ TEST(PaperNetwork, WeightsRoundTripAndMismatchErrors) {
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("light.fc.bias"), std::string::npos) << e.what();
+  }
+  // A NaN in the weights is blamed on the file and tensor, not on the renderer later (#10).
+  SafeTensorsWriter poisoned;
+  for (const std::string& name : file.names()) {
+    std::vector<float> values = file.floats(name);
+    if (name == "light.fc.bias") values[3] = std::numeric_limits<float>::quiet_NaN();
+    poisoned.add(name, file.entry(name).shape, values);
+  }
+  for (const auto& [k, v] : file.metadata()) poisoned.set_metadata(k, v);
+  poisoned.write_file(path);
+  try {
+    load_network_weights(*copy, SafeTensors::read_file(path), path);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("light.fc.bias' holds a NaN value at element 3"), std::string::npos)
+        << message;
   }
   std::filesystem::remove_all(dir);
 }

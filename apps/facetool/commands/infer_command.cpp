@@ -83,6 +83,15 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   check_output_option(values, "infer", "an output folder with -o DIR");
+  {
+    std::error_code ec;
+    check(!fs::exists(out_dir, ec) || fs::is_directory(out_dir, ec), "-o '", out_dir,
+          "' is a file, not a folder; give a folder for the outputs");
+  }
+  if (values.count("contact-sheet") && !values.count("no-contact-sheet"))
+    check_output_file_location(values["contact-sheet"].as<std::string>(), "--contact-sheet");
+  if (values.count("raw-output"))
+    check_output_file_location(values["raw-output"].as<std::string>(), "--raw-output");
   if (values.count("model") == values.count("init"))
     throw UsageError("infer: give exactly one of --model WEIGHTS or --init random");
   if (values.count("init") && values["init"].as<std::string>() != "random")

@@ -32,6 +32,8 @@ struct OutputPaths {
 // OUT.png / OUT.exr and its sibling OUT_shading.<ext>; no extension means PNG.
 OutputPaths output_paths(const std::string& output) {
   std::filesystem::path path(output);
+  if (output.empty() || !path.has_filename())
+    throw UsageError("-o '" + output + "' names a folder; give a file name such as OUT.png");
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (extension.empty()) path += ".png", extension = ".png";

@@ -80,7 +80,10 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
           "with procedural albedo, posed and lit by SH lights from environment maps; per-pixel\n"
           "visibility from Embree ray casting. One EXR per sample (image, albedo, normal, mask,\n"
           "9 visibility coefficients, depth; light/pose/seed as metadata) and a manifest.\n"
-          "Interrupted runs resume; the same seed gives the same samples for any --threads.",
+          "Interrupted runs resume; the same seed gives the same samples for any --threads.\n"
+          "Rays are cast in the hemisphere above the surface only; pixels without ray-cast\n"
+          "visibility are rendered with that open hemisphere, which is also what render assumes\n"
+          "without --visibility (docs/conventions.md).",
           options, po::positional_options_description(), args, values, hidden))
     return 0;
   check_output_option(values, "synth", "an output folder with -o DIR");
