@@ -33,6 +33,13 @@ void commit_temporary(const std::string& temporary, const std::string& path) {
     std::remove(temporary.c_str());
     fail("cannot write '", path, "': renaming the finished temporary file failed: ", why);
   }
+  // Make the rename itself durable; a failure here loses nothing already on disk.
+  const fs::path folder = fs::path(path).parent_path();
+  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
 }
 
 void write_atomically(const std::string& final_path,

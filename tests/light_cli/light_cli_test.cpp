@@ -279,6 +279,35 @@ TEST_F(LightCliTest, ConvertRejectsBadFormatsAndFiles) {
 
 // ---------------------------------------------------------------- light show
 
+// Every writing command takes -o / --output, with --out as the older alias (issue #10, class 8);
+// giving two of them is a usage error (exit 2) that writes nothing.
+TEST_F(LightCliTest, OutputOptionSpellingsAgree) {
+  write_test_light(file("light.json"), test_light());
+  const std::string in = quoted(file("light.json"));
+  for (const std::string spelling : {"-o", "--output", "--out"}) {
+    const std::string name = "show" + spelling + ".png";
+    const CommandResult r = facetool("light show " + in + " " + spelling + " " +
+                                     quoted(file(name)) + " --size 16");
+    ASSERT_EQ(r.exit_code, 0) << spelling << ": " << r.output;
+    EXPECT_EQ(read_rgb_image(file(name).string()).width, 48) << spelling;
+    const std::string text = "convert" + spelling + ".txt";
+    const CommandResult c = facetool("light convert " + in + " " + spelling + " " +
+                                     quoted(file(text)) + " --to sfsnet");
+    ASSERT_EQ(c.exit_code, 0) << spelling << ": " << c.output;
+    EXPECT_TRUE(fs::exists(file(text))) << spelling;
+  }
+  const CommandResult both = facetool("light show " + in + " -o " + quoted(file("a.png")) +
+                                      " --out " + quoted(file("b.png")));
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("only once"), std::string::npos) << both.output;
+  EXPECT_FALSE(fs::exists(file("a.png")));
+  EXPECT_FALSE(fs::exists(file("b.png")));
+  for (const std::string command : {"synth", "infer", "render"}) {
+    const CommandResult help = facetool(command + " --help");
+    EXPECT_NE(help.output.find("-o [ --output ]"), std::string::npos) << command << help.output;
+  }
+}
+
 TEST_F(LightCliTest, ShowWritesASphereAndPanoramaOfTheExpectedSize) {
   // A light from the camera's side (+Z): brightest at the sphere's centre and the panorama's
   // left/right edges, darkest at the panorama's centre (-Z).
