@@ -17,8 +17,8 @@ void check_input_file(const std::string& path, const std::string& what) {
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) {
     const int error = errno;
-    fail(what, " '", path, "' cannot be read: ", std::strerror(error),
-         error == ENOENT ? " (check the path)" : "");
+    if (error == ENOENT) fail(what, " '", path, "' does not exist (no such file); check the path");
+    fail(what, " '", path, "' cannot be read: ", std::strerror(error));
   }
   check(!S_ISDIR(info.st_mode), what, " '", path, "' is a folder; give a file inside it");
   check(S_ISREG(info.st_mode), what, " '", path,

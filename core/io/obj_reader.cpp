@@ -147,9 +147,9 @@ ObjMesh parse_obj(const std::string& text, const std::string& source_name) {
 }
 
 ObjMesh read_obj(const std::string& path) {
-  check_input_file(path, "OBJ file");
   std::ifstream file(path, std::ios::binary);
   check(file.good(), "cannot open OBJ file '", path, "': check the path and its permissions");
+  check_input_file(path, "OBJ file");  // a folder or device opens, but is no OBJ file
   std::ostringstream contents;
   contents << file.rdbuf();
   check(!file.bad(), "cannot read OBJ file '", path, "'");

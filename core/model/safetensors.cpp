@@ -37,10 +37,10 @@ uint64_t read_u64_le(const uint8_t* p) {
 }  // namespace
 
 SafeTensors SafeTensors::read_file(const std::string& path) {
-  check_input_file(path, "weights file");
   std::ifstream in(path, std::ios::binary);
   check(in.good(), "cannot open weights file '", path, "': ",
         std::filesystem::exists(path) ? "permission denied or not a file" : "no such file");
+  check_input_file(path, "weights file");  // a folder or device opens, but is no weights file
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return parse(bytes.data(), bytes.size(), path);
 }

@@ -67,9 +67,9 @@ LightSource load_light_file(const fs::path& path) {
 }  // namespace
 
 sh::RgbLight read_sh_light_file(const std::string& path) {
-  check_input_file(path, "SH light file");
   std::ifstream file(path);
   check(file.good(), "cannot open SH light file '", path, "'");
+  check_input_file(path, "SH light file");  // a folder or device opens, but holds no light
   std::vector<double> values;
   std::string line;
   while (std::getline(file, line)) {
