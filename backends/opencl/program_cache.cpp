@@ -11,6 +11,7 @@
 #include <iterator>
 #include <vector>
 
+#include "core/io/atomic_file.h"
 #include "core/util/error.h"
 
 namespace facetool::opencl {
@@ -150,19 +151,11 @@ void ProgramCache::store_binary(cl_program program, const std::string& path) {
   // A cache that cannot be written only costs time on the next run, so failures are ignored.
   std::error_code ec;
   std::filesystem::create_directories(cache_dir_, ec);
-  const std::string temp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) return;
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-    if (!out) {
-      out.close();
-      std::filesystem::remove(temp, ec);
-      return;
-    }
+  try {
+    write_file_atomically(path, data, size);
+  } catch (const Error&) {
+    // ignored, as said above: the temporary is gone and no partial binary is left behind
   }
-  std::filesystem::rename(temp, path, ec);
-  if (ec) std::filesystem::remove(temp, ec);
 }
 
 }  // namespace facetool::opencl

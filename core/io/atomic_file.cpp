@@ -1,6 +1,7 @@
 // Atomic file writing (temporary file in the target folder, then rename) and clean-up.
 #include "core/io/atomic_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -30,7 +31,14 @@ void commit_temporary(const std::string& temporary, const std::string& path) {
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
-    fail("cannot write '", path, "': ", why);
+    fail("cannot write '", path, "': renaming the finished temporary file failed: ", why);
+  }
+  // Make the rename itself durable; a failure here loses nothing already on disk.
+  const fs::path folder = fs::path(path).parent_path();
+  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
   }
 }
 
@@ -46,17 +54,74 @@ void write_atomically(const std::string& final_path,
   commit_temporary(temporary, final_path);
 }
 
+std::string write_failure_advice(int error) {
+  switch (error) {
+    case ENOSPC:
+    case EDQUOT:
+      return " (the disk is full: free some space and run again; existing files were kept)";
+    case EACCES:
+    case EPERM:
+    case EROFS:
+      return " (the folder is not writable: choose another output folder or fix its permissions)";
+    case ENOENT:
+    case ENOTDIR:
+      return " (the folder does not exist: create it first)";
+    default:
+      return " (existing files were kept)";
+  }
+}
+
+namespace {
+// Writes `size` bytes to `temporary` with every write, the fsync and the close checked; errors
+// name `path`, the file the temporary stands for.
+void write_checked(const std::string& temporary, const std::string& path, const void* data,
+                   size_t size) {
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int error = errno;
+    fail("cannot write '", path, "': ", std::strerror(error), write_failure_advice(error));
+  }
+  const char* bytes = static_cast<const char*>(data);
+  size_t written = 0;
+  int error = 0;
+  while (written < size) {
+    const ssize_t n = ::write(fd, bytes + written, size - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : ENOSPC;
+      break;
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (error == 0 && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0)
+    fail("cannot write '", path, "': ", std::strerror(error), write_failure_advice(error));
+}
+}  // namespace
+
 void write_file_atomically(const std::string& path, const void* data, size_t size) {
   write_atomically(path, [&](const std::string& temporary) {
-    FILE* f = std::fopen(temporary.c_str(), "wb");
-    check(f != nullptr, "cannot write '", path, "': ", std::strerror(errno),
-          " (does the folder exist and is it writable?)");
-    const bool ok = std::fwrite(data, 1, size, f) == size && std::fflush(f) == 0 &&
-                    ::fsync(::fileno(f)) == 0;
-    const std::string why = std::strerror(errno);
-    std::fclose(f);
-    check(ok, "cannot write '", path, "': ", why, " (disk full?)");
+    write_checked(temporary, path, data, size);
   });
+}
+
+void write_files_atomically(const std::vector<FileContents>& files) {
+  std::vector<std::string> temporaries;
+  try {
+    for (const FileContents& file : files) {
+      temporaries.push_back(temporary_path_for(file.path));
+      write_checked(temporaries.back(), file.path, file.bytes.data(), file.bytes.size());
+    }
+  } catch (...) {
+    for (const std::string& temporary : temporaries) std::remove(temporary.c_str());
+    throw;
+  }
+  for (size_t i = 0; i < files.size(); ++i) commit_temporary(temporaries[i], files[i].path);
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  write_file_atomically(path, text.data(), text.size());
 }
 
 namespace {

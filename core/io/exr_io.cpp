@@ -3,10 +3,15 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cctype>
+#include <filesystem>
 #include <memory>
 
 #include "core/io/atomic_file.h"
+#include "core/io/image_encoding.h"
+#include "core/io/image_io.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
 
 namespace facetool {
@@ -36,42 +41,48 @@ void read_metadata(const OIIO::ImageSpec& spec, const std::string& prefix, Layer
   }
 }
 
+// "EXR" for .exr files, "image" for the other formats read through the same functions.
+std::string kind_of(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".exr" ? "EXR" : "image";
+}
+
 std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
+  const std::string kind = kind_of(path);
+  check_regular_input_file(path, kMaxImageFileBytes, kind);
   auto input = OIIO::ImageInput::open(path);
   if (!input)
-    fail("cannot read EXR '", path, "': ", OIIO::geterror(),
-         " (a missing or damaged file: remove it and regenerate)");
+    fail("cannot read ", kind, " '", path, "': ", OIIO::geterror(),
+         " (a damaged or unsupported file: replace or regenerate it)");
   const OIIO::ImageSpec& spec = input->spec();
-  check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
+  check_image_dimensions(path, spec.width, spec.height, spec.nchannels, kind);
   return input;
 }
 
 }  // namespace
 
-void write_exr_atomically(const std::string& path, const LayeredImage& image) {
+std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image) {
   check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
         "cannot write '", path, "': the image is empty");
   check(image.pixels.size() == image.plane_size() * image.channel_names.size(),
         "cannot write '", path, "': pixel count does not match the size and channels");
   const std::vector<float> interleaved = interleave(image);
-  write_atomically(path, [&](const std::string& temp_path) {
-    auto output = OIIO::ImageOutput::create("openexr");
-    check(output != nullptr, "OpenImageIO has no OpenEXR writer: ", OIIO::geterror());
-    OIIO::ImageSpec spec(image.width, image.height, image.channel_count(), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = image.channel_names;
-    spec.alpha_channel = -1;
-    spec.z_channel = -1;
-    spec.attribute("compression", "zip");
-    // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
-    // empty so the same content always gives the same bytes.
-    spec.attribute("DateTime", "");
-    for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
-    if (!output->open(temp_path, spec))
-      fail("cannot create '", temp_path, "': ", output->geterror());
-    if (!output->write_image(OIIO::TypeDesc::FLOAT, interleaved.data()))
-      fail("cannot write '", temp_path, "': ", output->geterror());
-    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
-  });
+  OIIO::ImageSpec spec(image.width, image.height, image.channel_count(), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = image.channel_names;
+  spec.alpha_channel = -1;
+  spec.z_channel = -1;
+  spec.attribute("compression", "zip");
+  // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
+  // empty so the same content always gives the same bytes.
+  spec.attribute("DateTime", "");
+  for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
+  return encode_image(path, "openexr", spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+}
+
+void write_exr_atomically(const std::string& path, const LayeredImage& image) {
+  const std::vector<unsigned char> encoded = encode_exr(path, image);
+  write_file_atomically(path, encoded.data(), encoded.size());
 }
 
 LayeredImage read_exr(const std::string& path, const std::string& metadata_prefix) {
@@ -80,7 +91,8 @@ LayeredImage read_exr(const std::string& path, const std::string& metadata_prefi
   LayeredImage image(spec.width, spec.height, spec.channelnames);
   std::vector<float> interleaved(image.plane_size() * spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, interleaved.data()))
-    fail("cannot read the pixels of EXR '", path, "': ", input->geterror());
+    fail("cannot read the pixels of ", kind_of(path), " '", path, "': ", input->geterror(),
+         " (the file is truncated or damaged: replace or regenerate it)");
   const size_t channels = static_cast<size_t>(spec.nchannels);
   for (size_t c = 0; c < channels; ++c) {
     float* target = image.plane(static_cast<int>(c));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/io/layered_image.h"
 
@@ -11,6 +12,8 @@ namespace facetool {
 // to `path`, so an interrupted write never leaves a partial file called `path`. Metadata become
 // string attributes of the EXR header. Throws facetool::Error on failure.
 void write_exr_atomically(const std::string& path, const LayeredImage& image);
+// The bytes write_exr_atomically writes (`path` names the file in errors).
+std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image);
 
 // Reads every channel of an EXR (channel names as stored) and its string attributes whose name
 // starts with `metadata_prefix` (all string attributes when empty).

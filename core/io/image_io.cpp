@@ -8,7 +8,9 @@
 #include <cstdint>
 
 #include "core/io/atomic_file.h"
+#include "core/io/image_encoding.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
 
 namespace facetool {
@@ -26,16 +28,18 @@ float srgb_to_linear(float encoded) {
 }
 
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
+  check_regular_input_file(path, kMaxImageFileBytes, "image");
   auto input = OIIO::ImageInput::open(path);
   if (!input)
     fail("cannot read image '", path, "': ", OIIO::geterror(),
-         " (check that the file exists and is an image OpenImageIO can read)");
+         " (check that the file is a complete image OpenImageIO can read)");
   const OIIO::ImageSpec& spec = input->spec();
   check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
   const int channels = spec.nchannels;
   std::vector<float> raw(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
-    fail("cannot read the pixels of image '", path, "': ", input->geterror());
+    fail("cannot read the pixels of image '", path, "': ", input->geterror(),
+         " (the file is truncated or damaged: replace it)");
   input->close();
   RgbImage image;
   image.width = spec.width;
@@ -54,7 +58,8 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   return image;
 }
 
-void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
+std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
+                                      bool encode_srgb) {
   check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
   std::vector<uint8_t> bytes(rgb.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
@@ -62,15 +67,13 @@ void write_png_atomically(const std::string& path, const RgbImage& rgb, bool enc
                                 : std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
     bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
   }
-  write_atomically(path, [&](const std::string& temp_path) {
-    auto output = OIIO::ImageOutput::create("png");
-    check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());
-    OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
-    if (!output->open(temp_path, spec)) fail("cannot create '", temp_path, "': ", output->geterror());
-    if (!output->write_image(OIIO::TypeDesc::UINT8, bytes.data()))
-      fail("cannot write '", temp_path, "': ", output->geterror());
-    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
-  });
+  const OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
+  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
+  const std::vector<unsigned char> encoded = encode_png(path, rgb, encode_srgb);
+  write_file_atomically(path, encoded.data(), encoded.size());
 }
 
 }  // namespace facetool

@@ -1,6 +1,7 @@
 // Reading ordinary images (HDR, EXR, PNG, JPEG, ...) as float RGB and writing 8-bit PNGs.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,7 @@ struct RgbImage {
 // Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped.
 // Values are as stored: linear radiance for HDR/EXR; for 8-bit formats (sRGB-encoded) pass
 // `decode_srgb` to convert them to linear. Throws facetool::Error naming the file, also for
-// a NaN or infinite value (naming the pixel) and for a header beyond kMaxImagePixels.
+// a NaN or infinite value (naming the pixel) and for a header beyond core/util/image_limits.h.
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
 
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
@@ -32,5 +33,8 @@ float srgb_to_linear(float encoded);
 // atomically (temporary name, then rename). With encode_srgb = false the values are written as
 // they are (for data pictures such as normals encoded as (n + 1) / 2); NaN becomes 0.
 void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb = true);
+// The bytes write_png_atomically writes (`path` names the file in errors).
+std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
+                                      bool encode_srgb = true);
 
 }  // namespace facetool

@@ -106,15 +106,6 @@ std::string text_of(const std::vector<double>& values, size_t per_line) {
   return out.str();
 }
 
-void write_text_atomically(const std::string& path, const std::string& text) {
-  write_atomically(path, [&](const std::string& temporary) {
-    std::ofstream out(temporary);
-    out << text;
-    out.close();
-    check(out.good(), "cannot write light file '", path, "'");
-  });
-}
-
 // Attenuated-basis coefficients s (shading sum_i s_i A_l Y_i(n), image albedo * shading) to
 // facetool light: appendix B turns the shading coefficients S_i = A_l s_i into illumination
 // L_i = S_i / A_l = s_i; facetool's image carries 1/pi, so the light is pi * s.
@@ -253,13 +244,20 @@ LightFile read_light(const std::string& path, const Format* format) {
     try {
       j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
-      fail("light file '", path, "' is not valid JSON: ", e.what());
+      // nlohmann's messages start with "[json.exception.<kind>.<id>] "; keep the reason.
+      const std::string what = e.what();
+      const size_t reason = what.find("] ");
+      fail("light file '", path, "' is not valid JSON: ",
+           reason == std::string::npos ? what : what.substr(reason + 2),
+           "; fix the file or write it again with facetool light convert");
     }
     check(j.is_object() && j.value("format", "") == "facetool-light", "light file '", path,
           "' is not a facetool light (its \"format\" is not \"facetool-light\")");
     check(j.value("version", 0) == 1, "light file '", path, "' has version ",
           j.value("version", 0), "; this facetool reads version 1");
-    const auto& coeffs = j.at("coefficients");
+    check(j.contains("coefficients") && j["coefficients"].is_object(), "light file '", path,
+          "' has no \"coefficients\" object with r, g and b arrays");
+    const auto& coeffs = j["coefficients"];
     const char* channels[3] = {"r", "g", "b"};
     for (int c = 0; c < 3; ++c) {
       check(coeffs.contains(channels[c]) && coeffs[channels[c]].is_array() &&
@@ -270,6 +268,8 @@ LightFile read_light(const std::string& path, const Format* format) {
         check(v.is_number(), "light file '", path, "': coefficients.", channels[c], "[", i,
               "] is not a number");
         file.light[c * 9 + i] = v.get<double>();
+        check(std::isfinite(file.light[c * 9 + i]), "light file '", path, "': coefficients.",
+              channels[c], "[", i, "] is not finite (", v.dump(), "); fix the file");
       }
     }
     if (j.contains("metadata") && j["metadata"].is_object())
@@ -303,11 +303,12 @@ LightFile read_light(const std::string& path, const Format* format) {
   return file;
 }
 
-void write_light(const std::string& path, const LightFile& file, Format format) {
+std::string encode_light(const std::string& path, const LightFile& file, Format format) {
   for (double v : file.light)
     check(std::isfinite(v), "refusing to write light '", path, "': it holds a non-finite value");
   if (format == Format::Facetool) {
-    nlohmann::json j;
+    // Keys in the order written here (r, g, b), not sorted.
+    nlohmann::ordered_json j;
     j["format"] = "facetool-light";
     j["version"] = 1;
     j["basis"] = "real SH, degree <= 2, index l(l+1)+m, orthonormal, no Condon-Shortley phase";
@@ -317,20 +318,26 @@ void write_light(const std::string& path, const LightFile& file, Format format) 
       std::vector<double> v(file.light.begin() + c * 9, file.light.begin() + c * 9 + 9);
       j["coefficients"][channels[c]] = v;
     }
-    j["metadata"] = file.metadata;
-    write_text_atomically(path, j.dump(2) + "\n");
-  } else if (format == Format::Sfsnet) {
+    j["metadata"] = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : file.metadata) j["metadata"][key] = value;
+    return j.dump(2) + "\n";
+  }
+  if (format == Format::Sfsnet) {
     const auto values = to_sfsnet(file.light);
-    write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 9));
-  } else if (format == Format::RgbTable) {
+    return text_of(std::vector<double>(values.begin(), values.end()), 9);
+  }
+  if (format == Format::RgbTable) {
     std::vector<double> rows;
     for (int i = 0; i < sh::kCoeffCount; ++i)
       for (int c = 0; c < 3; ++c) rows.push_back(file.light[c * sh::kCoeffCount + i]);
-    write_text_atomically(path, text_of(rows, 3));
-  } else {
-    const auto values = to_dpr(file.light);
-    write_text_atomically(path, text_of(std::vector<double>(values.begin(), values.end()), 1));
+    return text_of(rows, 3);
   }
+  const auto values = to_dpr(file.light);
+  return text_of(std::vector<double>(values.begin(), values.end()), 1);
+}
+
+void write_light(const std::string& path, const LightFile& file, Format format) {
+  write_text_atomically(path, encode_light(path, file, format));
 }
 
 }  // namespace facetool::light

@@ -41,6 +41,8 @@ struct LightFile {
 LightFile read_light(const std::string& path, const Format* format = nullptr);
 // Writes atomically in `format` (a grey DPR file takes Rec. 601 luma of R, G, B).
 void write_light(const std::string& path, const LightFile& light, Format format);
+// The text write_light writes (`path` names the file in errors).
+std::string encode_light(const std::string& path, const LightFile& light, Format format);
 
 // The conversions behind the text formats (SfSNet: 27 values; DPR: 9).
 sh::RgbLight from_sfsnet(const std::array<double, 27>& values);

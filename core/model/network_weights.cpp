@@ -43,10 +43,10 @@ void load_tensor(const SafeTensors& file, const std::string& path, const std::st
          "needs ", target.shape().str());
   }
   const std::vector<float> values = file.floats(name);
-  for (size_t i = 0; i < values.size(); ++i)
-    check(std::isfinite(values[i]), "weights file '", path, "': tensor '", name,
-          "' holds a NaN or infinite value at element ", i,
-          "; the weights are damaged (or training diverged): use another checkpoint");
+  for (size_t k = 0; k < values.size(); ++k)
+    check(std::isfinite(values[k]), "weights file '", path, "': tensor '", name, "' holds a ",
+          std::isnan(values[k]) ? "NaN" : "infinite", " value at element ", k,
+          " (a diverged or damaged training run: use an earlier checkpoint)");
   target.copy_from_host(values);
 }
 

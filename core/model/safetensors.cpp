@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/io/atomic_file.h"
-#include "core/util/file_checks.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace {
@@ -206,14 +206,7 @@ std::vector<uint8_t> SafeTensorsWriter::serialize() const {
 
 void SafeTensorsWriter::write_file(const std::string& path) const {
   const std::vector<uint8_t> bytes = serialize();
-  write_atomically(path, [&](const std::string& temporary) {
-    FILE* f = std::fopen(temporary.c_str(), "wb");
-    check(f != nullptr, "cannot write '", path, "': ", std::strerror(errno),
-          " (does the folder exist and is it writable?)");
-    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    const bool closed = std::fclose(f) == 0;
-    check(ok && closed, "cannot write '", path, "': ", std::strerror(errno), " (disk full?)");
-  });
+  write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace facetool

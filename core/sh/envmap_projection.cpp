@@ -5,8 +5,10 @@
 
 #include <cmath>
 
+#include "core/io/image_io.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
 
 namespace facetool::sh {
@@ -15,6 +17,7 @@ constexpr double kPi = ShConstants::kPi;
 }
 
 EnvironmentMap read_environment_map(const std::string& path) {
+  check_regular_input_file(path, kMaxImageFileBytes, "environment map");
   auto input = OIIO::ImageInput::open(path);
   if (!input) {
     fail("environment map '", path, "' cannot be read: ", OIIO::geterror(),

@@ -18,6 +18,7 @@
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"
 #include "core/sh/light_clamp.h"
+#include "core/sh/sh_basis.h"
 
 namespace facetool {
 namespace {
@@ -278,6 +279,35 @@ TEST_F(LightCliTest, ConvertRejectsBadFormatsAndFiles) {
 
 // ---------------------------------------------------------------- light show
 
+// Every writing command takes -o / --output, with --out as the older alias (issue #10, class 8);
+// giving two of them is a usage error (exit 2) that writes nothing.
+TEST_F(LightCliTest, OutputOptionSpellingsAgree) {
+  write_test_light(file("light.json"), test_light());
+  const std::string in = quoted(file("light.json"));
+  for (const std::string spelling : {"-o", "--output", "--out"}) {
+    const std::string name = "show" + spelling + ".png";
+    const CommandResult r = facetool("light show " + in + " " + spelling + " " +
+                                     quoted(file(name)) + " --size 16");
+    ASSERT_EQ(r.exit_code, 0) << spelling << ": " << r.output;
+    EXPECT_EQ(read_rgb_image(file(name).string()).width, 48) << spelling;
+    const std::string text = "convert" + spelling + ".txt";
+    const CommandResult c = facetool("light convert " + in + " " + spelling + " " +
+                                     quoted(file(text)) + " --to sfsnet");
+    ASSERT_EQ(c.exit_code, 0) << spelling << ": " << c.output;
+    EXPECT_TRUE(fs::exists(file(text))) << spelling;
+  }
+  const CommandResult both = facetool("light show " + in + " -o " + quoted(file("a.png")) +
+                                      " --out " + quoted(file("b.png")));
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("only once"), std::string::npos) << both.output;
+  EXPECT_FALSE(fs::exists(file("a.png")));
+  EXPECT_FALSE(fs::exists(file("b.png")));
+  for (const std::string command : {"synth", "infer", "render"}) {
+    const CommandResult help = facetool(command + " --help");
+    EXPECT_NE(help.output.find("-o [ --output ]"), std::string::npos) << command << help.output;
+  }
+}
+
 TEST_F(LightCliTest, ShowWritesASphereAndPanoramaOfTheExpectedSize) {
   // A light from the camera's side (+Z): brightest at the sphere's centre and the panorama's
   // left/right edges, darkest at the panorama's centre (-Z).
@@ -339,13 +369,25 @@ std::vector<float> read_planes(const fs::path& path, int expected_channels) {
   return image.pixels;
 }
 
+// The whole sphere open (v_0 = 2 sqrt(pi), others 0): the visibility under which the shading is
+// the closed-form irradiance E(n) / pi.
+void write_full_sphere_visibility(const fs::path& path, int w, int h) {
+  std::vector<std::string> names;
+  for (int j = 0; j < 9; ++j) names.push_back("visibility." + std::to_string(j));
+  std::vector<float> visibility(9 * static_cast<size_t>(w) * h, 0.0f);
+  std::fill(visibility.begin(), visibility.begin() + w * h, static_cast<float>(2 * std::sqrt(kPi)));
+  write_exr(path, w, h, names, visibility);
+}
+
 TEST_F(LightCliTest, RenderMatchesTheClosedFormOnFlatAndVariedNormals) {
   const Scene s = test_scene();
   write_exr(file("albedo.exr"), s.w, s.h, {"R", "G", "B"}, s.albedo);
   write_exr(file("normal.exr"), s.w, s.h, {"X", "Y", "Z"}, s.normal);
   write_test_light(file("light.json"), test_light());
+  write_full_sphere_visibility(file("full.exr"), s.w, s.h);
   const CommandResult r = facetool("render --albedo " + quoted(file("albedo.exr")) + " --normal " +
-                                   quoted(file("normal.exr")) + " --light " +
+                                   quoted(file("normal.exr")) + " --visibility " +
+                                   quoted(file("full.exr")) + " --light " +
                                    quoted(file("light.json")) + " -o " + quoted(file("out.exr")));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::vector<float> image = read_planes(file("out.exr"), 3);
@@ -366,6 +408,52 @@ TEST_F(LightCliTest, RenderMatchesTheClosedFormOnFlatAndVariedNormals) {
       (kPi * L[0] / (2 * std::sqrt(kPi)) + 2 * kPi / 3 * L[2] * std::sqrt(3 / (4 * kPi)) +
        kPi / 4 * L[6] * std::sqrt(5 / kPi) / 2);
   EXPECT_NEAR(image[0], flat, 1e-5);
+}
+
+// Without --visibility, render uses synth's default: the open hemisphere above the surface. The
+// reference projects the hemisphere indicator [w . n > 0] on the SH basis by quadrature (a
+// 400 x 800 midpoint grid in theta, phi; error ~1e-4), independent of render's closed form.
+TEST_F(LightCliTest, RenderWithoutVisibilityUsesTheOpenHemisphere) {
+  const Scene s = test_scene();
+  const int n = s.w * s.h;
+  write_exr(file("albedo.exr"), s.w, s.h, {"R", "G", "B"}, s.albedo);
+  write_exr(file("normal.exr"), s.w, s.h, {"X", "Y", "Z"}, s.normal);
+  write_test_light(file("light.json"), test_light());
+  std::vector<std::string> names;
+  for (int j = 0; j < 9; ++j) names.push_back("visibility." + std::to_string(j));
+  std::vector<float> hemisphere(9 * n, 0.0f);
+  const int rows = 400, columns = 800;
+  for (int t = 0; t < rows; ++t)
+    for (int f = 0; f < columns; ++f) {
+      const double theta = kPi * (t + 0.5) / rows, phi = 2 * kPi * (f + 0.5) / columns;
+      const double d[3] = {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                           std::cos(theta)};
+      const double weight = std::sin(theta) * (kPi / rows) * (2 * kPi / columns);
+      const sh::ShCoeffs y = sh::sh_basis({d[0], d[1], d[2]});
+      for (int p = 0; p < n; ++p)
+        if (d[0] * s.normal[p] + d[1] * s.normal[n + p] + d[2] * s.normal[2 * n + p] > 0)
+          for (int j = 0; j < 9; ++j) hemisphere[j * n + p] += static_cast<float>(weight * y[j]);
+    }
+  for (int p = 0; p < n; ++p) EXPECT_NEAR(hemisphere[p], std::sqrt(kPi), 1e-3);
+  write_exr(file("hemisphere.exr"), s.w, s.h, names, hemisphere);
+  write_full_sphere_visibility(file("full.exr"), s.w, s.h);
+  const std::string inputs = "render --albedo " + quoted(file("albedo.exr")) + " --normal " +
+                             quoted(file("normal.exr")) + " --light " + quoted(file("light.json"));
+  ASSERT_EQ(facetool(inputs + " -o " + quoted(file("default.exr"))).exit_code, 0);
+  ASSERT_EQ(facetool(inputs + " --visibility " + quoted(file("hemisphere.exr")) + " -o " +
+                     quoted(file("hemisphere_out.exr"))).exit_code, 0);
+  ASSERT_EQ(facetool(inputs + " --visibility " + quoted(file("full.exr")) + " -o " +
+                     quoted(file("full_out.exr"))).exit_code, 0);
+  const std::vector<float> by_default = read_planes(file("default.exr"), 3);
+  const std::vector<float> reference = read_planes(file("hemisphere_out.exr"), 3);
+  const std::vector<float> full = read_planes(file("full_out.exr"), 3);
+  double largest_difference_to_full = 0;
+  for (size_t k = 0; k < by_default.size(); ++k) {
+    EXPECT_NEAR(by_default[k], reference[k], 2e-3 * (1 + std::abs(reference[k]))) << k;
+    largest_difference_to_full =
+        std::max(largest_difference_to_full, std::abs(double(by_default[k]) - full[k]));
+  }
+  EXPECT_GT(largest_difference_to_full, 0.01) << "the default must not be the whole sphere";
 }
 
 TEST_F(LightCliTest, RenderUsesVisibilityAndMask) {
@@ -442,8 +530,10 @@ TEST_F(LightCliTest, RenderDecodesPngNormalsAndAlbedoAndWritesPng) {
   write_png_bytes(file("normal.png"), w, h, 3, normal_bytes);
   write_png_bytes(file("albedo.png"), w, h, 3, albedo_bytes);
   write_test_light(file("light.json"), test_light());
+  write_full_sphere_visibility(file("full.exr"), w, h);
   const CommandResult r = facetool("render --albedo " + quoted(file("albedo.png")) + " --normal " +
-                                   quoted(file("normal.png")) + " --light " +
+                                   quoted(file("normal.png")) + " --visibility " +
+                                   quoted(file("full.exr")) + " --light " +
                                    quoted(file("light.json")) + " -o " + quoted(file("out.png")));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(file("out_shading.png")));

@@ -3,8 +3,6 @@
 // light text layout is read as what it is (or refused), never as another layout.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -20,36 +18,15 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
+#include "tests/support/error_text.h"
+#include "tests/support/temp_folder_test.h"
 
 namespace facetool {
 namespace {
 namespace fs = std::filesystem;
 
-class ReliabilityInputs : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("facetool_reliability_" + std::to_string(getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& path, const std::string& bytes) const {
-    std::ofstream(path, std::ios::binary) << bytes;
-  }
-  fs::path dir_;
-};
-
-// The message of the facetool::Error `action` throws ("" and a test failure if none).
-template <typename Action>
-std::string error_of(Action action) {
-  try {
-    action();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected a facetool::Error";
-  return "";
-}
+using ReliabilityInputs = testing::TempFolderTest;
+using testing::error_text;
 
 bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -59,20 +36,20 @@ TEST_F(ReliabilityInputs, OnlyRegularFilesOfASaneSizeAreRead) {
   const std::string small = file("small.txt");
   write(small, std::string(100, 'x'));
   EXPECT_EQ(read_regular_input_file(small, 100, "test file"), std::string(100, 'x'));
-  std::string message = error_of([&] { read_regular_input_file(small, 99, "test file"); });
+  std::string message = error_text([&] { read_regular_input_file(small, 99, "test file"); });
   EXPECT_TRUE(has(message, small) && has(message, "100 bytes") && has(message, "99-byte limit"))
       << message;
-  message = error_of([&] { check_regular_input_file(dir_.string(), 1000, "test file"); });
+  message = error_text([&] { check_regular_input_file(dir_.string(), 1000, "test file"); });
   EXPECT_TRUE(has(message, dir_.string()) && has(message, "is a folder")) << message;
-  message = error_of([&] { check_regular_input_file(file("absent"), 1000, "test file"); });
+  message = error_text([&] { check_regular_input_file(file("absent"), 1000, "test file"); });
   EXPECT_TRUE(has(message, "absent") && has(message, "no such file")) << message;
   if (fs::exists("/dev/zero")) {
-    message = error_of([&] { read_regular_input_file("/dev/zero", 1000, "weights file"); });
+    message = error_text([&] { read_regular_input_file("/dev/zero", 1000, "weights file"); });
     EXPECT_TRUE(has(message, "weights file '/dev/zero' is not a regular file")) << message;
   }
   // The light reader goes through the same check: a folder named like a light file.
   fs::create_directories(file("folder.txt"));
-  message = error_of([&] { light::read_light(file("folder.txt")); });
+  message = error_text([&] { light::read_light(file("folder.txt")); });
   EXPECT_TRUE(has(message, "folder.txt") && has(message, "is a folder")) << message;
 }
 
@@ -102,13 +79,17 @@ TEST_F(ReliabilityInputs, HugeImageHeadersAreRefusedBeforeAllocating) {
   write(png, std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", ihdr) +
                  png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) +
                  png_chunk("IEND", ""));
-  const std::string message = error_of([&] { read_rgb_image(png, true); });
+  const std::string message = error_text([&] { read_rgb_image(png, true); });
   EXPECT_TRUE(has(message, png)) << message;
   EXPECT_TRUE(has(message, "100000x100000")) << message;
   // The limit itself: exactly at it passes, one row more does not, nor too many channels.
   EXPECT_NO_THROW(check_image_dimensions("x", 16384, 16384, 3));
   EXPECT_THROW(check_image_dimensions("x", 16384, 16385, 3), Error);
   EXPECT_THROW(check_image_dimensions("x", 16384, 16384, 5), Error);
+  EXPECT_NO_THROW(check_image_dimensions("x", 32768, 8192, 4));
+  EXPECT_THROW(check_image_dimensions("x", 32769, 1, 3), Error);
+  EXPECT_THROW(check_image_dimensions("x", 1, 32769, 3), Error);
+  EXPECT_THROW(check_image_dimensions("x", 16, 16, 65), Error);
   EXPECT_THROW(check_image_dimensions("x", 0, 16, 3), Error);
   EXPECT_THROW(check_image_dimensions("x", std::numeric_limits<int>::max(),
                                       std::numeric_limits<int>::max(), 1),
@@ -124,7 +105,7 @@ TEST_F(ReliabilityInputs, NonFinitePixelsAreRefusedWithTheirPosition) {
     image.plane(1)[2 * 5 + 3] = bad;  // channel G of pixel (x 3, y 2)
     const std::string exr = file("bad.exr");
     write_exr_atomically(exr, image);
-    const std::string message = error_of([&] { read_rgb_image(exr); });
+    const std::string message = error_text([&] { read_rgb_image(exr); });
     EXPECT_TRUE(has(message, exr)) << message;
     EXPECT_TRUE(has(message, "pixel (3, 2) channel 1")) << message;
   }
@@ -173,14 +154,14 @@ TEST_F(ReliabilityInputs, EveryLightTextLayoutIsReadAsWhatItIs) {
   std::string numbers, word;
   while (in >> word) numbers += word + " ";
   write(file("one_line.txt"), numbers + "\n");
-  std::string message = error_of([&] { read_sh_light_file(file("one_line.txt")); });
+  std::string message = error_text([&] { read_sh_light_file(file("one_line.txt")); });
   EXPECT_TRUE(has(message, "one_line.txt") && has(message, "27 numbers on 1 line ")) << message;
   // Named explicitly, the layout that belongs to the other format is still refused.
   const light::Format sfsnet_format = light::Format::Sfsnet;
-  message = error_of([&] { light::read_light(table, &sfsnet_format); });
+  message = error_text([&] { light::read_light(table, &sfsnet_format); });
   EXPECT_TRUE(has(message, "table.txt") && has(message, "3 lines of 9")) << message;
   const light::Format table_format = light::Format::RgbTable;
-  message = error_of([&] { light::read_light(sfsnet, &table_format); });
+  message = error_text([&] { light::read_light(sfsnet, &table_format); });
   EXPECT_TRUE(has(message, "sfsnet.txt") && has(message, "9 lines of 'R G B'")) << message;
   // Named explicitly, SfSNet's 27 numbers on one line are SfSNet.
   std::ifstream sin(sfsnet);
@@ -191,7 +172,7 @@ TEST_F(ReliabilityInputs, EveryLightTextLayoutIsReadAsWhatItIs) {
                     "SfSNet on one line, format named");
   // Other counts: refused with the shape found.
   write(file("short.txt"), "1 2 3\n4 5 6\n");
-  message = error_of([&] { read_sh_light_file(file("short.txt")); });
+  message = error_text([&] { read_sh_light_file(file("short.txt")); });
   EXPECT_TRUE(has(message, "6 numbers on 2 lines")) << message;
 }
 
@@ -204,7 +185,7 @@ TEST_F(ReliabilityInputs, EnvironmentMapsWithNonFiniteTexelsAreRefused) {
   EXPECT_EQ(load_light_sources({file("good_env.exr")}).size(), 1u);
   map.plane(0)[3 * 8 + 6] = std::numeric_limits<float>::quiet_NaN();  // pixel (6, 3)
   write_exr_atomically(file("bad_env.exr"), map);
-  const std::string message = error_of([&] { load_light_sources({file("bad_env.exr")}); });
+  const std::string message = error_text([&] { load_light_sources({file("bad_env.exr")}); });
   EXPECT_TRUE(has(message, "bad_env.exr") && has(message, "pixel (6, 3)")) << message;
 }
 

@@ -6,6 +6,7 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/commands/output_option.h"
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/infer_outputs.h"
 #include "core/backend/registry.h"
@@ -55,7 +56,6 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
       ("width", po::value<int>()->default_value(128), "network width for --init random")
       ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
-      ("output,o", po::value<std::string>(), "output folder (one sub-folder per image)")
       ("batch", po::value<int>()->default_value(8), "images per network pass")
       ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
@@ -63,6 +63,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file");
   po::options_description hidden;
+  std::string out_dir;
+  add_output_option(options, hidden, &out_dir, "DIR", "output folder (one sub-folder per image)");
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "input images");
   po::positional_options_description positional;
   positional.add("images", -1);
@@ -84,7 +86,16 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
                                {"batch", 1, 1024}});
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
-  if (!values.count("output")) throw UsageError("infer: give an output folder with -o DIR");
+  check_output_option(values, "infer", "an output folder with -o DIR");
+  {
+    std::error_code ec;
+    check(!fs::exists(out_dir, ec) || fs::is_directory(out_dir, ec), "-o '", out_dir,
+          "' is a file, not a folder; give a folder for the outputs");
+  }
+  if (values.count("contact-sheet") && !values.count("no-contact-sheet"))
+    check_output_file_location(values["contact-sheet"].as<std::string>(), "--contact-sheet");
+  if (values.count("raw-output"))
+    check_output_file_location(values["raw-output"].as<std::string>(), "--raw-output");
   if (values.count("model") == values.count("init"))
     throw UsageError("infer: give exactly one of --model WEIGHTS or --init random");
   if (values.count("init") && values["init"].as<std::string>() != "random")
@@ -94,7 +105,6 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   const std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)
     check(fs::is_regular_file(f), "input image '", f, "' does not exist or is not a file");
-  const std::string out_dir = values["output"].as<std::string>();
 
   Backend& backend = get_backend(context.backend);
   std::shared_ptr<NetworkPlugin> network;

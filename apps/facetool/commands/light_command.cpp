@@ -7,6 +7,7 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/commands/output_option.h"
 #include "core/light/light_formats.h"
 #include "core/light/light_preview.h"
 #include "core/sh/envmap_projection.h"
@@ -83,9 +84,8 @@ int run_from_envmap(const std::vector<std::string>& args) {
   po::options_description options("Options");
   po::options_description hidden;
   std::string input, output, rotate;
+  add_output_option(options, hidden, &output, "FILE.json", "facetool light file to write");
   options.add_options()
-      ("output,o", po::value(&output)->value_name("FILE.json")->required(),
-       "facetool light file to write")
       ("rotate", po::value(&rotate)->value_name("YAW,PITCH,ROLL"),
        "turn the light by these angles in degrees: R = Ry(yaw) Rx(pitch) Rz(roll), each "
        "counter-clockwise about its axis (right-hand rule; +Y up, camera at +Z): light from w "
@@ -108,6 +108,7 @@ int run_from_envmap(const std::vector<std::string>& args) {
           options, positional, args, values, hidden))
     return 0;
   check_option_ranges(values, {});  // no numeric options (a new one must get a range)
+  check_output_option(values, "light from-envmap", "the light file to write with -o FILE.json");
   if (output.empty()) throw UsageError("-o FILE.json must not be empty");
   require_existing_file(input, "environment map");
   const std::array<double, 3> angles =
@@ -153,20 +154,20 @@ int run_convert(const std::vector<std::string>& args) {
        "format of IN (default: by extension and shape: .json = facetool, 3 lines of 9 = "
        "sfsnet, 9 lines of 3 = rgb-table, 9 numbers = dpr; other layouts of 27 numbers are "
        "ambiguous and need --from)");
-  hidden.add_options()
-      ("input", po::value(&input)->required(), "light to read")
-      ("output", po::value(&output)->required(), "light to write");
+  add_output_option(options, hidden, &output, "OUT", "light file to write (or give it after IN)");
+  hidden.add_options()("input", po::value(&input)->required(), "light to read");
   po::positional_options_description positional;
   positional.add("input", 1).add("output", 1);
   po::variables_map values;
   if (!parse_command_options(
-          "light convert IN OUT --to {facetool,sfsnet,dpr,rgb-table} [--from FORMAT]",
+          "light convert IN (OUT | -o OUT) --to {facetool,sfsnet,dpr,rgb-table} [--from FORMAT]",
           "Converts a light between facetool's JSON (radiance coefficients in facetool's frame),\n"
           "SfSNet's 27-value text and DPR's 9-value grey text (shading coefficients in their own\n"
           "order and frame; see docs/conventions.md). Writing DPR keeps Rec. 601 luma only.",
           options, positional, args, values, hidden))
     return 0;
   check_option_ranges(values, {});  // no numeric options (a new one must get a range)
+  check_output_option(values, "light convert", "the light file to write: OUT or -o OUT");
   light::Format to_format = light::Format::Facetool, from_format = light::Format::Facetool;
   try {
     to_format = light::format_from_name(to);
@@ -194,8 +195,8 @@ int run_show(const std::vector<std::string>& args) {
   po::options_description hidden;
   std::string input, output;
   int size = 256;
+  add_output_option(options, hidden, &output, "FILE.png", "PNG to write");
   options.add_options()
-      ("output,o", po::value(&output)->value_name("FILE.png")->required(), "PNG to write")
       ("size", po::value(&size)->value_name("N")->default_value(256),
        "picture height in pixels (16..4096); the width is 3 N");
   hidden.add_options()("input", po::value(&input)->required(), "light file");
@@ -214,6 +215,7 @@ int run_show(const std::vector<std::string>& args) {
           options, positional, args, values, hidden))
     return 0;
   check_option_ranges(values, {{"size", 16, 4096}});
+  check_output_option(values, "light show", "the picture to write with -o FILE.png");
   const std::string extension = std::filesystem::path(output).extension().string();
   if (extension != ".png" && extension != ".PNG")
     throw UsageError("-o '" + output + "': light show writes a PNG; name it FILE.png");

@@ -8,19 +8,21 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/component_images.h"
+#include "apps/facetool/commands/output_option.h"
 #include "core/backend/registry.h"
 #include "core/io/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"
 #include "core/plugin/renderer_plugin.h"
+#include "core/sh/sh_basis.h"
 
 namespace po = boost::program_options;
 
 namespace facetool {
 namespace {
 
-constexpr double kSqrtPi = 1.77245385090551602730;
+constexpr double kPi = 3.14159265358979323846;
 
 struct OutputPaths {
   std::string image, shading;
@@ -30,6 +32,8 @@ struct OutputPaths {
 // OUT.png / OUT.exr and its sibling OUT_shading.<ext>; no extension means PNG.
 OutputPaths output_paths(const std::string& output) {
   std::filesystem::path path(output);
+  if (output.empty() || !path.has_filename())
+    throw UsageError("-o '" + output + "' names a folder; give a file name such as OUT.png");
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (extension.empty()) path += ".png", extension = ".png";
@@ -49,6 +53,30 @@ OutputPaths output_paths(const std::string& output) {
   return paths;
 }
 
+// The default visibility, the same as synth's for pixels without a ray-cast label: every
+// direction of the hemisphere above the surface open, v(w) = [w . n > 0]. Its SH coefficients
+// follow from the Funk-Hecke theorem, v_i = lambda_l Y_i(n) with lambda_l = 2 pi int_0^1 P_l:
+// 2 pi, pi and 0 for bands 0, 1, 2 (so v_0 = sqrt(pi)). Zero-length normals get v = 0.
+ComponentImage open_hemisphere_visibility(const ComponentImage& normal) {
+  constexpr double kBandFactor[3] = {2 * kPi, kPi, 0.0};
+  ComponentImage visibility;
+  visibility.width = normal.width;
+  visibility.height = normal.height;
+  visibility.channels = 9;
+  const size_t pixels = normal.plane_size();
+  visibility.planes.assign(9 * pixels, 0.0f);
+  for (size_t p = 0; p < pixels; ++p) {
+    const double x = normal.plane(0)[p], y = normal.plane(1)[p], z = normal.plane(2)[p];
+    const double length = std::sqrt(x * x + y * y + z * z);
+    if (!(length > 0.0) || !std::isfinite(length)) continue;
+    double basis[sh::kCoeffCount];
+    sh::sh_basis(x / length, y / length, z / length, basis);
+    for (int i = 0; i < sh::kCoeffCount; ++i)
+      visibility.plane(i)[p] = static_cast<float>(kBandFactor[sh::sh_band(i)] * basis[i]);
+  }
+  return visibility;
+}
+
 void check_same_size(const ComponentImage& image, const ComponentImage& reference) {
   check(image.width == reference.width && image.height == reference.height, image.option, " '",
         image.path, "' is ", image.width, "x", image.height, " but ", reference.option, " '",
@@ -56,15 +84,15 @@ void check_same_size(const ComponentImage& image, const ComponentImage& referenc
         "; all component images must have the same size");
 }
 
-// Writes a [3,H,W] planar result to `temporary` as PNG or EXR.
-void write_result(const std::string& temporary, const std::vector<float>& planes, int width,
-                  int height, bool exr, const std::string& description) {
+// A [3,H,W] planar result encoded as the PNG or EXR file `path`.
+FileContents encode_result(const std::string& path, const std::vector<float>& planes, int width,
+                           int height, bool exr, const std::string& description) {
   const size_t plane = static_cast<size_t>(width) * height;
   if (exr) {
     LayeredImage image(width, height, {"R", "G", "B"});
     std::copy(planes.begin(), planes.end(), image.pixels.begin());
     image.set_metadata("facetool:content", description);
-    write_exr_atomically(temporary, image);
+    return {path, encode_exr(path, image)};
   } else {
     RgbImage image;
     image.width = width;
@@ -72,7 +100,7 @@ void write_result(const std::string& temporary, const std::vector<float>& planes
     image.pixels.resize(plane * 3);
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = planes[c * plane + p];
-    write_png_atomically(temporary, image);
+    return {path, encode_png(path, image)};
   }
 }
 
@@ -86,7 +114,8 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
       ("normal", po::value(&normal_path)->value_name("FILE")->required(),
        "world-frame normals: EXR float XYZ, or PNG holding (n + 1) / 2 per channel")
       ("visibility", po::value(&visibility_path)->value_name("FILE.exr"),
-       "9-channel EXR of SH visibility coefficients (default: unoccluded, v_0 = 2 sqrt(pi))")
+       "9-channel EXR of SH visibility coefficients (default: the open hemisphere above "
+       "the surface, as synth uses where it casts no rays; docs/conventions.md)")
       ("mask", po::value(&mask_path)->value_name("FILE"),
        "grey image; pixels > 0.5 are rendered, others are 0 (default: every pixel)")
       ("light", po::value(&light_path)->value_name("FILE")->required(),
@@ -94,10 +123,11 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
        "lines of R G B); text layouts are told apart by their shape")
       ("light-format", po::value(&light_format)->value_name("FORMAT"),
        "format of --light when guessing is not wanted: facetool, sfsnet, dpr or rgb-table")
-      ("output,o", po::value(&output)->value_name("OUT.{png,exr}")->required(),
-       "image to write; the shading goes to OUT_shading.<ext> beside it")
       ("renderer", po::value(&renderer_name)->value_name("NAME")->default_value("sh_renderer"),
        "renderer plugin to use");
+  po::options_description hidden;
+  add_output_option(options, hidden, &output, "OUT.{png,exr}",
+                    "image to write; the shading goes to OUT_shading.<ext> beside it");
   po::variables_map values;
   if (!parse_command_options(
           "render --albedo A --normal N [--visibility V] [--mask M] --light L -o OUT [options]",
@@ -107,9 +137,10 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
           "visibility.* and mask channels are used. All images must have the same size.\n"
           "Writes OUT and OUT_shading.<ext>: PNG (8-bit sRGB, values clipped to [0, 1]) or EXR\n"
           "(linear float) by OUT's extension. Nothing is written if anything fails.",
-          options, po::positional_options_description(), args, values))
+          options, po::positional_options_description(), args, values, hidden))
     return 0;
   check_option_ranges(values, {});  // no numeric options (a new one must get a range)
+  check_output_option(values, "render", "the image to write with -o OUT.png or -o OUT.exr");
   const OutputPaths paths = output_paths(output);
   light::Format format = light::Format::Facetool;
   if (!light_format.empty()) {
@@ -147,11 +178,7 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
     visibility = read_visibility_image(visibility_path);
     check_same_size(visibility, albedo);
   } else {
-    visibility.width = width;
-    visibility.height = height;
-    visibility.channels = 9;
-    visibility.planes.assign(9 * pixels, 0.0f);
-    std::fill(visibility.plane(0), visibility.plane(0) + pixels, static_cast<float>(2 * kSqrtPi));
+    visibility = open_hemisphere_visibility(normal);
   }
   check_finite(albedo, rendered);
   check_finite(normal, rendered);
@@ -178,22 +205,12 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
   const std::vector<float> image = outputs.image.to_host();
   const std::vector<float> shading = outputs.shading.to_host();
 
-  // Both files appear only once both are complete.
-  const std::string image_temporary = temporary_path_for(paths.image);
-  const std::string shading_temporary = temporary_path_for(paths.shading);
-  try {
-    write_result(image_temporary, image, width, height, paths.exr,
-                 "image = albedo * shading, linear RGB, rendered by " + renderer_name);
-    write_result(shading_temporary, shading, width, height, paths.exr,
-                 "shading, linear RGB, rendered by " + renderer_name);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(image_temporary, ec);
-    std::filesystem::remove(shading_temporary, ec);
-    throw;
-  }
-  commit_temporary(image_temporary, paths.image);
-  commit_temporary(shading_temporary, paths.shading);
+  // Both files appear only once both are complete; on failure neither is touched.
+  write_files_atomically(
+      {encode_result(paths.image, image, width, height, paths.exr,
+                     "image = albedo * shading, linear RGB, rendered by " + renderer_name),
+       encode_result(paths.shading, shading, width, height, paths.exr,
+                     "shading, linear RGB, rendered by " + renderer_name)});
 
   const size_t count = rendered.empty() ? pixels : std::count(rendered.begin(), rendered.end(), 1);
   float shading_max = 0.0f;

@@ -6,6 +6,7 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/commands/output_option.h"
 #include "core/backend/registry.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/plugin_renderer.h"
@@ -52,7 +53,6 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
        "(default: Debian blender-data's studio lights when installed)")
       ("backgrounds", po::value(&backgrounds)->value_name("DIR"),
        "images without faces for the background (default: views of the environment map)")
-      ("out", po::value(&out)->value_name("DIR")->required(), "output folder")
       ("count", po::value(&count)->value_name("N")->default_value(1), "samples in the whole run")
       ("seed", po::value(&seed)->value_name("S")->default_value(0), "run seed")
       ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
@@ -75,15 +75,20 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
       ("renderer", po::value(&renderer_name)->default_value("sh_renderer"),
        "renderer plugin that makes the images (the network's rendering layer), or 'reference' "
        "for the SH library's double-precision triple product");
+  po::options_description hidden;
+  add_output_option(options, hidden, &out, "DIR", "output folder");
   po::variables_map values;
   if (!parse_command_options(
-          "synth --out DIR (--face-model DIR | --mesh FILE.obj) [options]",
+          "synth -o DIR (--face-model DIR | --mesh FILE.obj) [options]",
           "Generates synthetic training samples as in the paper's section 4.1: random ICT faces\n"
           "with procedural albedo, posed and lit by SH lights from environment maps; per-pixel\n"
           "visibility from Embree ray casting. One EXR per sample (image, albedo, normal, mask,\n"
           "9 visibility coefficients, depth; light/pose/seed as metadata) and a manifest.\n"
-          "Interrupted runs resume; the same seed gives the same samples for any --threads.",
-          options, po::positional_options_description(), args, values))
+          "Interrupted runs resume; the same seed gives the same samples for any --threads.\n"
+          "Rays are cast in the hemisphere above the surface only; pixels without ray-cast\n"
+          "visibility are rendered with that open hemisphere, which is also what render assumes\n"
+          "without --visibility (docs/conventions.md).",
+          options, po::positional_options_description(), args, values, hidden))
     return 0;
   check_option_ranges(values, {{"count", 0, 1e7},
                                {"seed", 0, 18446744073709551615.0},
@@ -92,6 +97,7 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
                                {"identity-truncation", Random::kMinTruncation, 100},
                                {"max-expressions", 0, 1000},
                                {"contact-sheet-rows", 1, 10000}});
+  check_output_option(values, "synth", "an output folder with -o DIR");
   if (face_model.empty() == mesh.empty())
     throw UsageError(face_model.empty()
                          ? std::string("give --face-model DIR or --mesh FILE.obj: ") + kIctFaceKitHint

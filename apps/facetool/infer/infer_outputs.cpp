@@ -4,7 +4,9 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/io/atomic_file.h"
 #include "core/io/exr_io.h"
+#include "core/io/image_io.h"
 #include "core/light/light_formats.h"
 #include "core/light/light_preview.h"
 #include "core/util/error.h"
@@ -46,13 +48,18 @@ RgbImage ambient_visibility(const Decomposition& d, int index) {
   return img;
 }
 
-void write_exr(const std::string& path, const std::vector<float>& planar, int index, int channels,
-               const std::vector<std::string>& names, int s, const std::string& source) {
+FileContents exr_file(const std::string& path, const std::vector<float>& planar, int index,
+                      int channels, const std::vector<std::string>& names, int s,
+                      const std::string& source) {
   LayeredImage img(s, s, names);
   const size_t count = static_cast<size_t>(channels) * s * s;
   std::copy(planar.begin() + index * count, planar.begin() + (index + 1) * count, img.pixels.begin());
   img.set_metadata("facetool:source", source);
-  write_exr_atomically(path, img);
+  return {path, encode_exr(path, img)};
+}
+
+FileContents png_file(const std::string& path, const RgbImage& image, bool encode_srgb = true) {
+  return {path, encode_png(path, image, encode_srgb)};
 }
 
 }  // namespace
@@ -65,26 +72,31 @@ void write_decomposition(const std::string& folder, const Decomposition& d, int 
   const int s = d.size;
   auto at = [&](const char* name) { return (std::filesystem::path(folder) / name).string(); };
 
-  write_png_atomically(at("input.png"), planar_to_rgb(input_planar, index, 3, 0, s));
-  write_png_atomically(at("reconstruction.png"), planar_to_rgb(d.reconstruction, index, 3, 0, s));
-  write_png_atomically(at("albedo.png"), planar_to_rgb(d.albedo, index, 3, 0, s));
-  write_exr(at("albedo.exr"), d.albedo, index, 3, {"R", "G", "B"}, s, source);
-  write_png_atomically(at("shading.png"), planar_to_rgb(d.shading, index, 3, 0, s));
-  write_exr(at("shading.exr"), d.shading, index, 3, {"R", "G", "B"}, s, source);
-  write_png_atomically(at("normal.png"),
-                       map_pixels(planar_to_rgb(d.normal, index, 3, 0, s), encode_normal), false);
-  write_exr(at("normal.exr"), d.normal, index, 3, {"X", "Y", "Z"}, s, source);
-  write_png_atomically(at("visibility.png"), ambient_visibility(d, index), false);
-  std::vector<std::string> vis_names;
-  for (int i = 0; i < 9; ++i) vis_names.push_back("visibility." + std::to_string(i));
-  write_exr(at("visibility.exr"), d.visibility, index, 9, vis_names, s, source);
-
   light::LightFile light;
   for (int i = 0; i < 27; ++i) light.light[i] = d.light[static_cast<size_t>(index) * 27 + i];
   light.metadata["source"] = source;
   light.metadata["estimated_by"] = "facetool infer";
-  light::write_light(at("light.json"), light, light::Format::Facetool);
-  light::write_light_preview(at("light.png"), light.light, 128);
+  const std::string light_text = light::encode_light(at("light.json"), light, light::Format::Facetool);
+  std::vector<std::string> vis_names;
+  for (int i = 0; i < 9; ++i) vis_names.push_back("visibility." + std::to_string(i));
+
+  // All files of one image are replaced together, and only once every one is written: on a
+  // full disk the previous run's files stay as they were.
+  write_files_atomically({
+      png_file(at("input.png"), planar_to_rgb(input_planar, index, 3, 0, s)),
+      png_file(at("reconstruction.png"), planar_to_rgb(d.reconstruction, index, 3, 0, s)),
+      png_file(at("albedo.png"), planar_to_rgb(d.albedo, index, 3, 0, s)),
+      exr_file(at("albedo.exr"), d.albedo, index, 3, {"R", "G", "B"}, s, source),
+      png_file(at("shading.png"), planar_to_rgb(d.shading, index, 3, 0, s)),
+      exr_file(at("shading.exr"), d.shading, index, 3, {"R", "G", "B"}, s, source),
+      png_file(at("normal.png"), map_pixels(planar_to_rgb(d.normal, index, 3, 0, s), encode_normal),
+               false),
+      exr_file(at("normal.exr"), d.normal, index, 3, {"X", "Y", "Z"}, s, source),
+      png_file(at("visibility.png"), ambient_visibility(d, index), false),
+      exr_file(at("visibility.exr"), d.visibility, index, 9, vis_names, s, source),
+      {at("light.json"), std::vector<unsigned char>(light_text.begin(), light_text.end())},
+      png_file(at("light.png"), light::render_light_preview(light.light, 128).image),
+  });
 }
 
 RgbImage contact_sheet_row(const Decomposition& d, int index, const std::vector<float>& input_planar) {

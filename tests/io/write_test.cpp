@@ -1,0 +1,130 @@
+// Atomic writes: nothing under a final name changes unless every file was written completely.
+#include <gtest/gtest.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "core/io/atomic_file.h"
+#include "core/io/exr_io.h"
+#include "core/io/image_io.h"
+#include "core/light/light_formats.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace {
+namespace fs = std::filesystem;
+
+class AtomicWrite : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("facetool_io_write_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string contents(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream out;
+    out << in.rdbuf();
+    return out.str();
+  }
+  std::set<std::string> listing() const {
+    std::set<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir_)) names.insert(entry.path().filename());
+    return names;
+  }
+  fs::path dir_;
+};
+
+std::vector<unsigned char> bytes_of(const std::string& text) { return {text.begin(), text.end()}; }
+
+TEST_F(AtomicWrite, FilesThatBelongTogetherAreAllKeptWhenOneCannotBeWritten) {
+  write_text_atomically(file("a.txt"), "old a");
+  write_text_atomically(file("b.txt"), "old b");
+  const std::set<std::string> before = listing();
+  const std::string unwritable = file("no_such_folder/c.txt");
+  try {
+    write_files_atomically({{file("a.txt"), bytes_of("new a")},
+                            {file("b.txt"), bytes_of("new b")},
+                            {unwritable, bytes_of("c")}});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(unwritable), std::string::npos) << message;
+    EXPECT_NE(message.find(std::strerror(ENOENT)), std::string::npos) << message;
+    EXPECT_EQ(message.find(".tmp-"), std::string::npos) << "temporary name shown: " << message;
+  }
+  EXPECT_EQ(contents(file("a.txt")), "old a");
+  EXPECT_EQ(contents(file("b.txt")), "old b");
+  EXPECT_EQ(listing(), before) << "a temporary was left behind";
+
+  write_files_atomically({{file("a.txt"), bytes_of("new a")}, {file("b.txt"), bytes_of("new b")}});
+  EXPECT_EQ(contents(file("a.txt")), "new a");
+  EXPECT_EQ(contents(file("b.txt")), "new b");
+  EXPECT_EQ(listing(), before);
+}
+
+TEST_F(AtomicWrite, AFailureNamesTheFileAndTheSystemsReason) {
+  write_text_atomically(file("plain"), "x");
+  const std::string below_a_file = file("plain/out.png");
+  RgbImage image;
+  image.width = image.height = 2;
+  image.pixels.assign(12, 0.5f);
+  try {
+    write_png_atomically(below_a_file, image);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("cannot write '" + below_a_file + "': " + std::strerror(ENOTDIR)),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_EQ(contents(file("plain")), "x");
+}
+
+// The in-memory encoders give files OpenImageIO reads back: PNG within one 8-bit step of the
+// sRGB encoding, EXR exactly, channel names and metadata kept.
+TEST_F(AtomicWrite, EncodedPngAndExrReadBack) {
+  RgbImage image;
+  image.width = 3;
+  image.height = 2;
+  for (int k = 0; k < 18; ++k) image.pixels.push_back(static_cast<float>(k) / 17.0f);
+  write_png_atomically(file("x.png"), image, false);
+  const RgbImage png = read_rgb_image(file("x.png"));
+  ASSERT_EQ(png.width, 3);
+  ASSERT_EQ(png.height, 2);
+  for (size_t k = 0; k < png.pixels.size(); ++k)
+    EXPECT_NEAR(png.pixels[k], image.pixels[k], 0.5 / 255 + 1e-6) << k;
+
+  LayeredImage layered(2, 2, {"visibility.0", "visibility.1"});
+  for (size_t k = 0; k < layered.pixels.size(); ++k) layered.pixels[k] = 0.1f * k - 0.3f;
+  layered.set_metadata("facetool:source", "a test");
+  write_exr_atomically(file("x.exr"), layered);
+  const LayeredImage exr = read_exr(file("x.exr"), "facetool:");
+  EXPECT_EQ(exr.channel_names, layered.channel_names);
+  EXPECT_EQ(exr.pixels, layered.pixels);
+  ASSERT_EQ(exr.metadata.size(), 1u);
+  EXPECT_EQ(exr.metadata[0].second, "a test");
+}
+
+TEST_F(AtomicWrite, LightJsonKeysAreInChannelOrder) {
+  light::LightFile light;
+  for (int k = 0; k < 27; ++k) light.light[k] = 0.1 * k;
+  light::write_light(file("light.json"), light, light::Format::Facetool);
+  const std::string text = contents(file("light.json"));
+  const size_t r = text.find("\"r\""), g = text.find("\"g\""), b = text.find("\"b\"");
+  ASSERT_NE(b, std::string::npos) << text;
+  EXPECT_LT(r, g) << text;
+  EXPECT_LT(g, b) << text;
+  const light::LightFile back = light::read_light(file("light.json"));
+  for (int k = 0; k < 27; ++k) EXPECT_NEAR(back.light[k], light.light[k], 1e-12) << k;
+}
+
+}  // namespace
+}  // namespace facetool
