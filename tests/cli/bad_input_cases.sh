@@ -10,10 +10,9 @@
 #     of the raw library phrases below (unclear message),
 #   - no file in its output folder changed, appeared or was truncated (data loss): the folder is
 #     filled with the outputs of good runs first and hashed before and after.
-# Cases are named GROUP/NAME; --group keeps those whose name matches REGEX. Cases listed in
-# PENDING (option ranges validated by another change) are reported but do not fail the run.
+# Cases are named GROUP/NAME; --group keeps those whose name matches REGEX.
 # --report prints the figures of issue #10's probe (cases, crashes, hangs, data losses, unclear
-# messages). Exit status: 0 when every non-pending case passed.
+# messages). Exit status: 0 when every case passed.
 set -u
 FACETOOL=$(realpath "$1")
 shift
@@ -38,14 +37,8 @@ TIME_LIMIT=${FACETOOL_CASE_TIMEOUT:-30}
 export FACETOOL_PLUGIN_PATH=
 # Raw phrases that must never reach a user: library internals, temporary names.
 RAW_PHRASES='bad_alloc|basic_filebuf|basic_ios|terminate called|what\(\)|std::|stoi|stod|vector::|out_of_range|\.tmp-[0-9]+-[0-9]+'
-# Cases that need the option range validation of the "core" change of issue #10.
-PENDING=' bench/repeats-0 bench/width-0 bench/train-batch-negative bench/input-size-0
-  synth/identity-truncation-nan synth/identity-truncation-tiny synth/directions-0
-  synth/max-expressions-negative synth/contact-sheet-rows-negative infer/width-0
-  infer/input-size-0 infer/image-nan-exr plugins/truncated-plugin bench/input-size-0
-  infer/seed-negative '
 
-tried=0 crashes=0 hangs=0 losses=0 unclear=0 wrong_exit=0 failed=0 pending_failed=0 skipped=0
+tried=0 crashes=0 hangs=0 losses=0 unclear=0 wrong_exit=0 failed=0 skipped=0
 failures=()
 
 # --- fixtures: good files made by facetool itself, and bad ones --------------------------------
@@ -110,8 +103,6 @@ seed_output() {
 
 folder_hash() { (cd "$1" && find . -type f -print0 | sort -z | xargs -0 -r md5sum) | md5sum; }
 
-is_pending() { [[ " $(echo $PENDING) " == *" $1 "* ]]; }
-
 # run_case_in NAME NAMED_THING OUT COMMAND...: runs COMMAND (facetool's arguments) with output
 # folder OUT already seeded, and records the outcome.
 run_case_in() {
@@ -140,17 +131,12 @@ run_case_in() {
     fi
   fi
   if [ -n "$problems" ]; then
-    if is_pending "$name"; then
-      pending_failed=$((pending_failed + 1))
-      echo "PENDING $name:$problems"
-    else
-      failed=$((failed + 1))
-      failures+=("$name")
-      echo "FAIL $name:$problems"
-      echo "  \$ facetool $*"
-      echo "  exit $rc; wanted the message to name: $needle"
-      sed 's/^/  | /' <<< "$message" | head -8
-    fi
+    failed=$((failed + 1))
+    failures+=("$name")
+    echo "FAIL $name:$problems"
+    echo "  \$ facetool $*"
+    echo "  exit $rc; wanted the message to name: $needle"
+    sed 's/^/  | /' <<< "$message" | head -8
   else
     echo "ok   $name"
   fi
@@ -285,6 +271,7 @@ synth/size-0|--size|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.tx
 synth/size-letters|--size|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --size x
 synth/size-negative|--size|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --size=-16
 synth/count-negative|--count|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --count=-1
+synth/seed-negative|--seed|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --seed=-1
 synth/threads-0|--threads|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --threads 0
 synth/shard-out-of-range|--shard|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --shard 3/2
 synth/shard-letters|--shard|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --shard x
@@ -385,7 +372,7 @@ done < <(option_cases)
 if [[ "disk/" =~ $GROUP ]] || [[ "disk/x" =~ $GROUP ]]; then full_disk_cases; fi
 
 echo
-echo "$tried cases: $failed failed, $pending_failed pending (need another change), $skipped skipped"
+echo "$tried cases: $failed failed, $skipped skipped"
 [ ${#failures[@]} -eq 0 ] || printf '  failed: %s\n' "${failures[@]}"
 if [ "$REPORT" -eq 1 ]; then
   echo "probe figures: cases tried $tried, crashes $crashes, hangs $hangs," \

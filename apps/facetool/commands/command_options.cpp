@@ -26,6 +26,25 @@ int option_style() {
   return po::command_line_style::default_style & ~po::command_line_style::allow_guessing;
 }
 
+namespace {
+
+// boost's lexical_cast turns "-1" into 2^64 - 1 for an unsigned option, which would pass its
+// range check: a minus sign given to an unsigned option is refused here, naming the option.
+void refuse_negative_unsigned(const po::parsed_options& parsed, const po::variables_map& values) {
+  for (const po::option& option : parsed.options) {
+    const auto found = values.find(option.string_key);
+    if (found == values.end()) continue;
+    const boost::any& value = found->second.value();
+    if (!boost::any_cast<uint64_t>(&value) && !boost::any_cast<unsigned>(&value)) continue;
+    for (const std::string& token : option.value)
+      if (token.find('-') != std::string::npos)
+        throw UsageError("--" + option.string_key + " must be a whole number 0 or more; got '" +
+                         token + "'");
+  }
+}
+
+}  // namespace
+
 bool parse_command_options(const std::string& usage, const std::string& description,
                            po::options_description& options,
                            const po::positional_options_description& positional,
@@ -34,12 +53,13 @@ bool parse_command_options(const std::string& usage, const std::string& descript
   options.add_options()("help,h", "show this command's options");
   po::options_description all;
   all.add(options).add(hidden);
-  po::store(po::command_line_parser(args)
-                .options(all)
-                .positional(positional)
-                .style(option_style())
-                .run(),
-            values);
+  const po::parsed_options parsed = po::command_line_parser(args)
+                                        .options(all)
+                                        .positional(positional)
+                                        .style(option_style())
+                                        .run();
+  po::store(parsed, values);
+  refuse_negative_unsigned(parsed, values);
   if (values.count("help")) {
     std::cout << "usage: facetool " << usage << "\n\n" << description << "\n\n"
               << options << '\n'
