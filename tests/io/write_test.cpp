@@ -14,20 +14,14 @@
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"
 #include "core/util/error.h"
+#include "tests/support/temp_folder_test.h"
 
 namespace facetool {
 namespace {
 namespace fs = std::filesystem;
 
-class AtomicWrite : public ::testing::Test {
+class AtomicWrite : public testing::TempFolderTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("facetool_io_write_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
   static std::string contents(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream out;
@@ -39,7 +33,6 @@ class AtomicWrite : public ::testing::Test {
     for (const auto& entry : fs::directory_iterator(dir_)) names.insert(entry.path().filename());
     return names;
   }
-  fs::path dir_;
 };
 
 std::vector<unsigned char> bytes_of(const std::string& text) { return {text.begin(), text.end()}; }

@@ -13,6 +13,7 @@
 #include "core/util/elf_check.h"
 #include "core/util/error.h"
 #include "core/util/shared_library.h"
+#include "tests/support/error_text.h"
 #include "test_plugin_interface.h"
 
 namespace facetool {
@@ -28,17 +29,7 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// The message of the facetool::Error that `action` throws; fails the test if it throws none.
-template <typename Action>
-std::string error_message(Action action) {
-  try {
-    action();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected a facetool::Error";
-  return "";
-}
+using testing::error_text;
 
 // A loader that searches only `dirs`, so the tests do not depend on the machine's plugins.
 PluginLoader loader_over(std::vector<std::string> dirs) {
@@ -90,7 +81,7 @@ TEST(PluginLoader, LoadingTheSameFileTwiceKeepsOnePlugin) {
 TEST(PluginLoader, WrongApiVersionIsRefusedWithBothVersions) {
   PluginLoader loader = loader_over({});
   const std::string file = plugin_file("wrong_version");
-  const std::string message = error_message([&] { loader.load_file(file); });
+  const std::string message = error_text([&] { loader.load_file(file); });
   EXPECT_TRUE(contains(message, file)) << message;
   EXPECT_TRUE(contains(message, "version " + std::to_string(FACETOOL_PLUGIN_API_VERSION + 1)))
       << message;
@@ -103,7 +94,7 @@ TEST(PluginLoader, WrongApiVersionIsRefusedWithBothVersions) {
 TEST(PluginLoader, MissingFileIsAClearError) {
   PluginLoader loader = loader_over({});
   const std::string file = kPluginDir + "/does_not_exist" FACETOOL_PLUGIN_FILE_SUFFIX;
-  const std::string message = error_message([&] { loader.load_file(file); });
+  const std::string message = error_text([&] { loader.load_file(file); });
   EXPECT_TRUE(contains(message, file)) << message;
   EXPECT_TRUE(contains(message, "does not exist")) << message;
 }
@@ -111,7 +102,7 @@ TEST(PluginLoader, MissingFileIsAClearError) {
 TEST(PluginLoader, MissingEntryPointIsRefused) {
   PluginLoader loader = loader_over({});
   const std::string file = plugin_file("no_entry");
-  const std::string message = error_message([&] { loader.load_file(file); });
+  const std::string message = error_text([&] { loader.load_file(file); });
   EXPECT_TRUE(contains(message, file)) << message;
   EXPECT_TRUE(contains(message, FACETOOL_PLUGIN_ENTRY_SYMBOL)) << message;
   EXPECT_TRUE(contains(message, "FACETOOL_DEFINE_PLUGIN")) << message;
@@ -120,7 +111,7 @@ TEST(PluginLoader, MissingEntryPointIsRefused) {
 TEST(PluginLoader, UnknownKindIsRefused) {
   PluginLoader loader = loader_over({});
   const std::string file = plugin_file("unknown_kind");
-  const std::string message = error_message([&] { loader.load_file(file); });
+  const std::string message = error_text([&] { loader.load_file(file); });
   EXPECT_TRUE(contains(message, file)) << message;
   EXPECT_TRUE(contains(message, "unknown kind 99")) << message;
 }
@@ -130,7 +121,7 @@ TEST(PluginLoader, DuplicateNameIsRefusedNamingBothFiles) {
   const std::string first = plugin_file("good_loss");
   const std::string second = plugin_file("second_good_loss");
   loader.load_file(first);
-  const std::string message = error_message([&] { loader.load_file(second); });
+  const std::string message = error_text([&] { loader.load_file(second); });
   EXPECT_TRUE(contains(message, "plugin name 'test_loss' from " + second +
                                     " is already provided by " + first))
       << message;
@@ -142,7 +133,7 @@ TEST(PluginLoader, CreateReturningNullThrows) {
   PluginLoader loader = loader_over({});
   const PluginInfo& info = loader.load_file(plugin_file("null_create"));
   EXPECT_EQ(info.kind, static_cast<uint32_t>(FACETOOL_PLUGIN_RENDERER));
-  const std::string message = error_message([&] { loader.create(info); });
+  const std::string message = error_text([&] { loader.create(info); });
   EXPECT_TRUE(contains(message, "null_create")) << message;
   EXPECT_TRUE(contains(message, "failed to create")) << message;
 }
@@ -155,7 +146,7 @@ TEST(PluginLoader, NotALibraryIsRefusedWithTheLoaderMessage) {
   std::ofstream(file) << "this is not a shared library\n";
 
   PluginLoader loader = loader_over({dir.string()});
-  const std::string message = error_message([&] { loader.load_file(file); });
+  const std::string message = error_text([&] { loader.load_file(file); });
   EXPECT_TRUE(contains(message, file)) << message;
   EXPECT_TRUE(contains(message, "not a loadable library")) << message;
   loader.discover();
@@ -196,7 +187,7 @@ TEST(PluginLoader, FindListsTheAvailablePlugins) {
   loader.load_file(plugin_file("good_loss"));
   EXPECT_EQ(loader.find(FACETOOL_PLUGIN_LOSS, "test_loss").name, "test_loss");
   const std::string message =
-      error_message([&] { loader.find(FACETOOL_PLUGIN_LOSS, "no_such_loss"); });
+      error_text([&] { loader.find(FACETOOL_PLUGIN_LOSS, "no_such_loss"); });
   EXPECT_TRUE(contains(message, "no_such_loss")) << message;
   EXPECT_TRUE(contains(message, "test_loss")) << message;
   // The right name but the wrong kind is not a match.
@@ -241,9 +232,9 @@ TEST(PluginLoader, TruncatedLibrariesAreRefusedBeforeDlopen) {
     const std::string file =
         (dir / ("cut_" + std::to_string(size) + FACETOOL_PLUGIN_FILE_SUFFIX)).string();
     std::ofstream(file, std::ios::binary) << bytes.substr(0, size);
-    const std::string direct = error_message([&] { check_loadable_elf_file(file); });
+    const std::string direct = error_text([&] { check_loadable_elf_file(file); });
     EXPECT_TRUE(contains(direct, file)) << direct;
-    const std::string message = error_message([&] { loader_over({}).load_file(file); });
+    const std::string message = error_text([&] { loader_over({}).load_file(file); });
     EXPECT_TRUE(contains(message, file)) << size << " bytes: " << message;
     EXPECT_TRUE(contains(message, "truncated") || contains(message, "ELF header"))
         << size << " bytes: " << message;
@@ -252,10 +243,10 @@ TEST(PluginLoader, TruncatedLibrariesAreRefusedBeforeDlopen) {
   const std::string text = (dir / ("text" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
   std::ofstream(text) << "#!/bin/sh\necho this is a script renamed as a plugin, long enough "
                          "to hold an ELF header's worth of bytes\n";
-  EXPECT_TRUE(contains(error_message([&] { check_loadable_elf_file(text); }), "no ELF magic"));
+  EXPECT_TRUE(contains(error_text([&] { check_loadable_elf_file(text); }), "no ELF magic"));
   const std::string folder = (dir / ("folder" FACETOOL_PLUGIN_FILE_SUFFIX)).string();
   std::filesystem::create_directories(folder);
-  EXPECT_TRUE(contains(error_message([&] { check_loadable_elf_file(folder); }),
+  EXPECT_TRUE(contains(error_text([&] { check_loadable_elf_file(folder); }),
                        "not a regular file"));
   std::filesystem::remove_all(dir);
 }
