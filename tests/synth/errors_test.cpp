@@ -98,7 +98,7 @@ TEST(SynthErrors, UserMeshWithoutFaces) {
   testing::ScratchDir dir("synth-errors-mesh");
   testing::write_text(dir.file("points.obj"), "v 0 0 0\nv 1 0 0\n");
   expect_error([&] { load_user_mesh(dir.file("points.obj")); }, {"points.obj", "no faces"});
-  expect_error([&] { load_user_mesh(dir.file("absent.obj")); }, {"absent.obj", "cannot open"});
+  expect_error([&] { load_user_mesh(dir.file("absent.obj")); }, {"absent.obj", "does not exist"});
 }
 
 }  // namespace
