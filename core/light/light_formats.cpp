@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -26,9 +27,21 @@ constexpr int kSfsnetToPaper[9] = {0, 2, 3, 1, 6, 7, 5, 8, 4};
 // DPR's axes in facetool's frame: x -> X, y -> -Z, z -> Y (a proper rotation).
 sh::Mat3 dpr_rotation() { return {{{1, 0, 0}, {0, 0, 1}, {0, -1, 0}}}; }
 
-std::vector<double> read_numbers(const std::string& path) {
-  std::ifstream in(path);
+// The whole file as text; a missing, unreadable or non-regular file is a facetool::Error.
+std::string read_text(const std::string& path) {
+  std::error_code ec;
+  check(!std::filesystem::is_directory(path, ec), "cannot read light file '", path,
+        "': it is a folder; give the path of a light file");
+  std::ifstream in(path, std::ios::binary);
   check(in.good(), "cannot read light file '", path, "': no such file or not readable");
+  std::ostringstream text;
+  text << in.rdbuf();
+  check(!in.bad(), "cannot read light file '", path, "': reading failed");
+  return text.str();
+}
+
+std::vector<double> parse_numbers(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   std::vector<double> values;
   std::string token;
   while (in >> token) {
@@ -95,7 +108,7 @@ const char* format_name(Format format) {
 
 Format guess_format(const std::string& path) {
   if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) return Format::Facetool;
-  const size_t count = read_numbers(path).size();
+  const size_t count = parse_numbers(read_text(path), path).size();
   if (count == 27) return Format::Sfsnet;
   if (count == 9) return Format::Dpr;
   fail("light file '", path, "' holds ", count, " numbers: expected 27 (SfSNet RGB) or 9 (DPR ",
@@ -191,21 +204,32 @@ sh::Vec3 dpr_to_world(const sh::Vec3& d) {
 
 LightFile read_light(const std::string& path, const Format* format) {
   const Format f = format ? *format : guess_format(path);
+  return parse_light(read_text(path), f, path);
+}
+
+LightFile parse_light(const std::string& text, Format f, const std::string& path) {
   LightFile file;
   if (f == Format::Facetool) {
-    std::ifstream in(path);
-    check(in.good(), "cannot read light file '", path, "': no such file or not readable");
     nlohmann::json j;
     try {
-      j = nlohmann::json::parse(in);
+      j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
       fail("light file '", path, "' is not valid JSON: ", e.what());
     }
-    check(j.is_object() && j.value("format", "") == "facetool-light", "light file '", path,
+    // Every member is checked for its type before it is read: nlohmann's own type errors would
+    // not name the file.
+    check(j.is_object() && j.contains("format") && j["format"].is_string() &&
+              j["format"].get<std::string>() == "facetool-light",
+          "light file '", path,
           "' is not a facetool light (its \"format\" is not \"facetool-light\")");
-    check(j.value("version", 0) == 1, "light file '", path, "' has version ",
-          j.value("version", 0), "; this facetool reads version 1");
-    const auto& coeffs = j.at("coefficients");
+    const bool version_1 = j.contains("version") && j["version"].is_number_integer() &&
+                           j["version"].get<int64_t>() == 1;
+    check(version_1, "light file '", path, "' has version ",
+          j.contains("version") ? j["version"].dump() : std::string("(none)"),
+          "; this facetool reads version 1");
+    check(j.contains("coefficients") && j["coefficients"].is_object(), "light file '", path,
+          "' has no \"coefficients\" object with members r, g and b");
+    const auto& coeffs = j["coefficients"];
     const char* channels[3] = {"r", "g", "b"};
     for (int c = 0; c < 3; ++c) {
       check(coeffs.contains(channels[c]) && coeffs[channels[c]].is_array() &&
@@ -216,6 +240,8 @@ LightFile read_light(const std::string& path, const Format* format) {
         check(v.is_number(), "light file '", path, "': coefficients.", channels[c], "[", i,
               "] is not a number");
         file.light[c * 9 + i] = v.get<double>();
+        check(std::isfinite(file.light[c * 9 + i]), "light file '", path, "': coefficients.",
+              channels[c], "[", i, "] is not finite (", v.dump(), ")");
       }
     }
     if (j.contains("metadata") && j["metadata"].is_object())
@@ -224,7 +250,7 @@ LightFile read_light(const std::string& path, const Format* format) {
                                                          : it.value().dump();
     return file;
   }
-  const std::vector<double> values = read_numbers(path);
+  const std::vector<double> values = parse_numbers(text, path);
   if (f == Format::Sfsnet) {
     check(values.size() == 27, "light file '", path, "' holds ", values.size(),
           " numbers; an SfSNet light has 27");

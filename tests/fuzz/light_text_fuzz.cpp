@@ -1,9 +1,10 @@
-// libFuzzer target: the text light formats (SfSNet's 27 numbers, DPR's 9), guessed and forced,
-// and facetool's JSON reader forced onto text, refuse bad files with facetool::Error and never
-// return a non-finite coefficient.
+// libFuzzer target: the text light formats (SfSNet's 27 numbers, DPR's 9), and facetool's JSON
+// reader given the same text, refuse bad files with facetool::Error and never return a
+// non-finite coefficient.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "core/light/light_formats.h"
 #include "core/util/error.h"
@@ -11,9 +12,9 @@
 
 namespace {
 
-void read_and_check(const std::string& path, const facetool::light::Format* format) {
+void parse_and_check(const std::string& text, facetool::light::Format format) {
   try {
-    const facetool::light::LightFile file = facetool::light::read_light(path, format);
+    const facetool::light::LightFile file = facetool::light::parse_light(text, format, "fuzz.txt");
     for (double v : file.light)
       facetool::fuzz::require(std::isfinite(v), "a light text accepted a non-finite coefficient");
   } catch (const facetool::Error&) {
@@ -24,9 +25,7 @@ void read_and_check(const std::string& path, const facetool::light::Format* form
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using facetool::light::Format;
-  static const std::string path = facetool::fuzz::scratch_path("light.txt");
-  facetool::fuzz::write_file(path, data, size);
-  read_and_check(path, nullptr);  // guessed from the count of numbers
-  for (Format format : {Format::Sfsnet, Format::Dpr, Format::Facetool}) read_and_check(path, &format);
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  for (Format format : {Format::Sfsnet, Format::Dpr, Format::Facetool}) parse_and_check(text, format);
   return 0;
 }
