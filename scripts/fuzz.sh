@@ -2,7 +2,9 @@
 # Builds the libFuzzer targets (clang, ASan + UBSan) in build-fuzz and runs one or all of them for
 # SECONDS each (default: all, 60 s); crashing, hanging or leaking inputs are kept as regression
 # files under tests/fuzz/regressions/<target>/, which the normal test suite replays.
-# usage: scripts/fuzz.sh [TARGET|all] [SECONDS]     targets: see FACETOOL_FUZZ_TARGETS below
+# usage: scripts/fuzz.sh [TARGET|all] [SECONDS]    targets: all_targets below
+# FACETOOL_FUZZ_RUNS=N stops a target after N executions when that comes before SECONDS (the
+# documented long run: FACETOOL_FUZZ_RUNS=1000000 scripts/fuzz.sh all 3600).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:-all}
@@ -35,11 +37,12 @@ for t in "${targets[@]}"; do
   [ -d "tests/fuzz/regressions/$t" ] && inputs+=("tests/fuzz/regressions/$t")
   log="$build/fuzz-$t.log"
   # -timeout: an input taking over 10 s is a hang; -rss_limit_mb: over 2 GiB is unbounded memory.
-  "$build/bin/fuzz_$t" "${inputs[@]}" -max_total_time="$seconds" -print_final_stats=1 \
+  "$build/bin/fuzz_$t" "${inputs[@]}" -max_total_time="$seconds" -runs="${FACETOOL_FUZZ_RUNS:--1}" \
+    -print_final_stats=1 \
     -timeout=10 -rss_limit_mb=2048 -artifact_prefix="$artifacts/" > "$log" 2>&1 || true
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  echo "fuzz: $t: ${executions:-?} executions in ${seconds}s (${speed:-?}/s), corpus $(ls "$corpus" | wc -l) inputs"
+  echo "fuzz: $t: ${executions:-?} executions (${speed:-?}/s, limit ${seconds}s), corpus $(ls "$corpus" | wc -l) inputs"
   for f in "$artifacts"/*; do
     [ -e "$f" ] || continue
     mkdir -p "tests/fuzz/regressions/$t"
