@@ -39,6 +39,8 @@ printf '{"format": 7}' > format-number.json
 printf 'nan 0 0 0 0 0 0 0 0\n' > nan-dpr.txt
 printf '1 2 3\n' > three.txt
 printf '\x7fELF\x02\x01\x01\0' > plug/truncated.ftplugin.so
+# A real plugin cut after 3000 bytes: its program headers point past the end of the file.
+head -c 3000 "$plugin_dir/sh_renderer.ftplugin.so" > plug/cut.ftplugin.so
 
 # name | arguments (word-split; no spaces inside an argument)
 cases=(
@@ -69,6 +71,7 @@ cases=(
   "synth_bad_size|synth --mesh missing.obj --size 0 --out out/s"
   "plugins_truncated_library|plugins --plugin plug/truncated.ftplugin.so"
   "plugins_missing_library|plugins --plugin missing.ftplugin.so"
+  "plugins_cut_library|plugins --plugin plug/cut.ftplugin.so"
 )
 
 failures=0
@@ -82,7 +85,7 @@ for entry in "${cases[@]}"; do
     valgrind -q --error-exitcode=99 --suppressions="$suppressions" --leak-check=full --errors-for-leak-kinds=definite \
     --show-leak-kinds=definite --log-file="$name.valgrind" "$facetool" $args > "$name.out" 2>&1
   rc=$?
-  message=$(grep -m1 -i "error" "$name.out" | cut -c1-110)
+  message=$(grep -m1 -i -E "error|cannot|not " "$name.out" | cut -c1-110)
   if [ "$rc" -eq 99 ]; then
     result=MEMORY; detail=$(grep -m1 -E "Invalid|uninitialised|definitely|Mismatched" "$name.valgrind")
   elif [ "$rc" -eq 124 ]; then
