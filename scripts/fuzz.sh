@@ -21,10 +21,11 @@ fi
 build=${FACETOOL_FUZZ_BUILD_DIR:-build-fuzz}
 jobs=${FACETOOL_JOBS:-2}
 
+mkdir -p "$build"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DFACETOOL_BUILD_FUZZERS=ON -DFACETOOL_BUILD_OPENCL=OFF > "$build.configure.log" 2>&1 ||
-  { cat "$build.configure.log"; exit 1; }
+  -DFACETOOL_BUILD_FUZZERS=ON -DFACETOOL_BUILD_OPENCL=OFF > "$build/configure.log" 2>&1 ||
+  { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j "$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
 found=0

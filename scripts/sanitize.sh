@@ -12,11 +12,12 @@ flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-po
 # No OpenCL: PoCL compiles kernels with its own LLVM at run time and its ICD loader is not built
 # with ASan; under ASan it reports its own allocations and is far too slow. The opencl backend has
 # its own tests in the ordinary suite.
+mkdir -p "$build"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFACETOOL_BUILD_OPENCL=OFF \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
-  -DCMAKE_MODULE_LINKER_FLAGS="$flags" > "$build.configure.log" 2>&1 ||
-  { cat "$build.configure.log"; exit 1; }
+  -DCMAKE_MODULE_LINKER_FLAGS="$flags" > "$build/configure.log" 2>&1 ||
+  { cat "$build/configure.log"; exit 1; }
 # The subset: every parser (with the fuzz replays), the plugin loader and its broken plugins, the
 # SH library, autograd, the cpu backend's bad-input checks, the renderer plugin, synth sample I/O
 # and errors, the dataset reader, inference and the command line.
