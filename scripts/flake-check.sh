@@ -10,11 +10,8 @@ repo=$PWD
 work=$(mktemp -d "${TMPDIR:-/tmp}/facetool-flake-XXXXXX")
 log="$work.log"
 trap 'rm -rf "$work"' EXIT
-# SynthVisibility.GroupedPointsEqualSinglePoints aborts inside Debian's Embree (built with
-# assertions) on uninitialised ray lanes in about 3 of 5 runs: a known flake (issue 10, class 1)
-# that the core reliability fix removes. Excluded here until that fix is merged; set
-# FACETOOL_FLAKE_EXCLUDE= (empty) to include it.
-exclude=${FACETOOL_FLAKE_EXCLUDE-GroupedPointsEqualSinglePoints}
+# FACETOOL_FLAKE_EXCLUDE=REGEX leaves tests out (none by default).
+exclude=${FACETOOL_FLAKE_EXCLUDE-}
 
 echo "flake-check: cloning $(git rev-parse --short HEAD) into $work (uncommitted changes are not included)"
 git clone -q "$repo" "$work/src"
