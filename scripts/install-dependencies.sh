@@ -10,6 +10,7 @@ packages=(
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
+  clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )
 
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

@@ -28,9 +28,14 @@ constexpr int kSfsnetToPaper[9] = {0, 2, 3, 1, 6, 7, 5, 8, 4};
 // DPR's axes in facetool's frame: x -> X, y -> -Z, z -> Y (a proper rotation).
 sh::Mat3 dpr_rotation() { return {{{1, 0, 0}, {0, 0, 1}, {0, -1, 0}}}; }
 
-// The numbers of a light text file, one vector per non-empty line.
-std::vector<std::vector<double>> read_rows(const std::string& path) {
-  std::istringstream in(read_regular_input_file(path, kMaxTextFileBytes, "light file"));
+// The whole file as text (a regular file of a sane size; else a facetool::Error naming it).
+std::string read_text(const std::string& path) {
+  return read_regular_input_file(path, kMaxTextFileBytes, "light file");
+}
+
+// The numbers of a light text, one vector per non-empty line.
+std::vector<std::vector<double>> parse_rows(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   std::vector<std::vector<double>> rows;
   std::string line;
   int line_number = 0;
@@ -145,7 +150,7 @@ const char* format_name(Format format) {
 
 Format guess_format(const std::string& path) {
   if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) return Format::Facetool;
-  return format_of_shape(read_rows(path), path);
+  return format_of_shape(parse_rows(read_text(path), path), path);
 }
 
 sh::RgbLight from_sfsnet(const std::array<double, 27>& values) {
@@ -236,10 +241,17 @@ sh::Vec3 dpr_to_world(const sh::Vec3& d) {
 }
 
 LightFile read_light(const std::string& path, const Format* format) {
-  const Format f = format ? *format : guess_format(path);
+  const std::string text = read_text(path);
+  const bool json = path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+  const Format f = format ? *format
+                   : json ? Format::Facetool
+                          : format_of_shape(parse_rows(text, path), path);
+  return parse_light(text, f, path);
+}
+
+LightFile parse_light(const std::string& text, Format f, const std::string& path) {
   LightFile file;
   if (f == Format::Facetool) {
-    const std::string text = read_regular_input_file(path, kMaxTextFileBytes, "light file");
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(text);
@@ -251,12 +263,19 @@ LightFile read_light(const std::string& path, const Format* format) {
            reason == std::string::npos ? what : what.substr(reason + 2),
            "; fix the file or write it again with facetool light convert");
     }
-    check(j.is_object() && j.value("format", "") == "facetool-light", "light file '", path,
+    // Every member is checked for its type before it is read: nlohmann's own type errors would
+    // not name the file.
+    check(j.is_object() && j.contains("format") && j["format"].is_string() &&
+              j["format"].get<std::string>() == "facetool-light",
+          "light file '", path,
           "' is not a facetool light (its \"format\" is not \"facetool-light\")");
-    check(j.value("version", 0) == 1, "light file '", path, "' has version ",
-          j.value("version", 0), "; this facetool reads version 1");
+    const bool version_1 = j.contains("version") && j["version"].is_number_integer() &&
+                           j["version"].get<int64_t>() == 1;
+    check(version_1, "light file '", path, "' has version ",
+          j.contains("version") ? j["version"].dump() : std::string("(none)"),
+          "; this facetool reads version 1");
     check(j.contains("coefficients") && j["coefficients"].is_object(), "light file '", path,
-          "' has no \"coefficients\" object with r, g and b arrays");
+          "' has no \"coefficients\" object with members r, g and b");
     const auto& coeffs = j["coefficients"];
     const char* channels[3] = {"r", "g", "b"};
     for (int c = 0; c < 3; ++c) {
@@ -278,7 +297,7 @@ LightFile read_light(const std::string& path, const Format* format) {
                                                          : it.value().dump();
     return file;
   }
-  const std::vector<std::vector<double>> rows = read_rows(path);
+  const std::vector<std::vector<double>> rows = parse_rows(text, path);
   const std::vector<double> values = flattened(rows);
   // A named format is trusted for layouts of its own size, except the one layout that belongs
   // to the other 27-number format (9 lines of 3 is never SfSNet, 3 lines of 9 never a table).

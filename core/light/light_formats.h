@@ -39,6 +39,8 @@ struct LightFile {
 // Reads a light in any format (guessed when `format` is null) into facetool coefficients.
 // Throws facetool::Error naming the file for unreadable files, wrong counts, non-numbers, NaN.
 LightFile read_light(const std::string& path, const Format* format = nullptr);
+// Parses the text of a light file in `format`; `source` names it in errors (read_light's parser).
+LightFile parse_light(const std::string& text, Format format, const std::string& source);
 // Writes atomically in `format` (a grey DPR file takes Rec. 601 luma of R, G, B).
 void write_light(const std::string& path, const LightFile& light, Format format);
 // The text write_light writes (`path` names the file in errors).

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "core/plugin/plugin_descriptor.h"
 #include "core/util/error.h"
 #include "core/util/shared_library.h"
 
@@ -17,13 +18,6 @@ std::string normalized_path(const std::string& path) {
   std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
   if (ec) return std::filesystem::absolute(path, ec).lexically_normal().string();
   return canonical.string();
-}
-
-std::string text_or_empty(const char* text) { return text ? std::string(text) : std::string(); }
-
-bool is_known_kind(uint32_t kind) {
-  return kind == FACETOOL_PLUGIN_NETWORK || kind == FACETOOL_PLUGIN_LOSS ||
-         kind == FACETOOL_PLUGIN_RENDERER;
 }
 
 // Reads and validates the descriptor exported by the library at `path`.
@@ -49,34 +43,7 @@ PluginInfo read_descriptor(const std::string& path) {
         FACETOOL_PLUGIN_ENTRY_SYMBOL, "'; define it with FACETOOL_DEFINE_PLUGIN (see ",
         "core/plugin/plugin_api.h)");
 
-  const facetool_plugin_descriptor* descriptor = entry();
-  check(descriptor != nullptr, "plugin file '", path, "': ", FACETOOL_PLUGIN_ENTRY_SYMBOL,
-        " returned no descriptor; the plugin is broken, rebuild it with FACETOOL_DEFINE_PLUGIN");
-  // api_version is the first field in every version of the ABI, so it is safe to read before
-  // anything else; the rest of the layout is only trusted once the version matches.
-  check(descriptor->api_version == FACETOOL_PLUGIN_API_VERSION, path,
-        " was built for facetool plugin API version ", descriptor->api_version,
-        ", but this facetool uses version ", FACETOOL_PLUGIN_API_VERSION,
-        "; rebuild the plugin against this facetool's SDK");
-
-  const std::string name = text_or_empty(descriptor->name);
-  check(!name.empty(), "plugin file '", path,
-        "' has a descriptor without a name; give the plugin a name in FACETOOL_DEFINE_PLUGIN");
-  check(is_known_kind(descriptor->kind), "plugin '", name, "' from ", path,
-        " declares unknown kind ", descriptor->kind,
-        "; use FACETOOL_PLUGIN_NETWORK, FACETOOL_PLUGIN_LOSS or FACETOOL_PLUGIN_RENDERER");
-  check(descriptor->create != nullptr && descriptor->destroy != nullptr, "plugin '", name,
-        "' from ", path, " has no create/destroy functions in its descriptor; ",
-        "define it with FACETOOL_DEFINE_PLUGIN");
-
-  PluginInfo info;
-  info.path = path;
-  info.name = name;
-  info.version = text_or_empty(descriptor->version);
-  info.kind = descriptor->kind;
-  info.description = text_or_empty(descriptor->description);
-  info.descriptor = descriptor;
-  return info;
+  return validate_plugin_descriptor(entry(), path);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "core/synth/face_model.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -30,7 +31,9 @@ int identity_number(const std::string& file_name) {
   if (file_name.rfind(prefix, 0) != 0 || file_name.size() <= prefix.size() + 4) return -1;
   const std::string digits = file_name.substr(prefix.size(), file_name.size() - prefix.size() - 4);
   if (digits.empty() || !std::all_of(digits.begin(), digits.end(), ::isdigit)) return -1;
-  return std::stoi(digits);
+  int number = -1;
+  const auto [after, status] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
+  return status == std::errc() && after == digits.data() + digits.size() ? number : -1;
 }
 
 // The integer list after "idx_to_landmark_verts" in vertex_indices.json (no JSON library

@@ -1,9 +1,10 @@
 // SynthSample <-> EXR channels and metadata.
 #include "core/synth/synth_sample.h"
 
+#include <charconv>
 #include <cstdio>
 #include <sstream>
-#include <stdexcept>
+#include <type_traits>
 
 #include "core/io/exr_io.h"
 #include "core/util/error.h"
@@ -40,6 +41,18 @@ std::vector<double> parse_numbers(const std::string& text, size_t expected, cons
   return values;
 }
 
+// A whole decimal integer (no sign for unsigned fields, nothing after it) or a facetool::Error.
+template <typename Integer>
+Integer parse_integer(const std::string& text, const char* what, const std::string& source) {
+  Integer value = 0;
+  const char* end = text.data() + text.size();
+  const auto [after, status] = std::from_chars(text.data(), end, value);
+  check(!text.empty() && status == std::errc() && after == end, "sample '", source,
+        "': metadata ", what, " should hold one ", std::is_signed_v<Integer> ? "" : "non-negative ",
+        "integer: '", text, "' (a damaged sample: remove it and regenerate)");
+  return value;
+}
+
 const std::string& require(const LayeredImage& image, const char* name, const std::string& source) {
   const std::string* value = image.find_metadata(key(name));
   check(value != nullptr, "'", source, "' has no ", key(name),
@@ -69,13 +82,10 @@ const std::vector<ChannelGroup>& channel_groups() {
 // Fills the common fields of `info`-like metadata from `image`.
 void read_info(const LayeredImage& image, const std::string& source, SynthSampleInfo& info) {
   info.generator_version = require(image, "generator_version", source);
-  try {
-    info.run_seed = std::stoull(require(image, "seed", source));
-    info.sample_seed = std::stoull(require(image, "sample_seed", source));
-    info.index = std::stoll(require(image, "sample_index", source));
-  } catch (const std::logic_error&) {  // invalid_argument, out_of_range: damaged metadata
-    fail("sample '", source, "': its seed or index metadata is not a number");
-  }
+  info.run_seed = parse_integer<uint64_t>(require(image, "seed", source), "seed", source);
+  info.sample_seed =
+      parse_integer<uint64_t>(require(image, "sample_seed", source), "sample_seed", source);
+  info.index = parse_integer<int64_t>(require(image, "sample_index", source), "sample_index", source);
   if (const std::string* settings = image.find_metadata(key("settings"))) info.settings = *settings;
   const auto pose = parse_numbers(require(image, "pose_deg", source), 3, "pose_deg", source);
   info.pose = {pose[0], pose[1], pose[2]};
