@@ -67,24 +67,28 @@ FaceDetector::FaceDetector(const std::string& landmark_model) : impl_(std::make_
 
 FaceDetector::~FaceDetector() = default;
 
-std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
-                                               const DetectionOptions& options) {
-  check(photo.width > 0 && photo.height > 0, "face detection: the photo is empty");
+namespace {
+
+// Upright faces of `grey`, best first; adds the time spent to the two counters.
+std::vector<DetectedFace> detect_upright(dlib::frontal_face_detector& detector,
+                                         const dlib::shape_predictor& predictor,
+                                         const dlib::array2d<unsigned char>& grey,
+                                         const DetectionOptions& options,
+                                         double& detection_seconds, double& landmark_seconds) {
   const auto start = Clock::now();
-  dlib::array2d<unsigned char> grey;
-  to_grey(photo, grey);
+  const long width = grey.nc(), height = grey.nr();
   const double min_size = options.min_face_size > 0
                               ? options.min_face_size
-                              : std::max(80.0, std::min(photo.width, photo.height) / 8.0);
+                              : std::max(80.0, std::min(width, height) / 8.0);
   const double scale = std::min(4.0, 80.0 / min_size);  // the HOG window is 80 x 80
   std::vector<dlib::rect_detection> found;
   if (std::abs(scale - 1.0) < 1e-6) {
-    impl_->detector(grey, found, options.score_threshold);
+    detector(grey, found, options.score_threshold);
   } else {
-    dlib::array2d<unsigned char> scaled(std::max(1L, std::lround(photo.height * scale)),
-                                        std::max(1L, std::lround(photo.width * scale)));
+    dlib::array2d<unsigned char> scaled(std::max(1L, std::lround(height * scale)),
+                                        std::max(1L, std::lround(width * scale)));
     dlib::resize_image(grey, scaled, dlib::interpolate_bilinear());
-    impl_->detector(scaled, found, options.score_threshold);
+    detector(scaled, found, options.score_threshold);
     for (dlib::rect_detection& d : found)
       d.rect = dlib::rectangle(std::lround(d.rect.left() / scale), std::lround(d.rect.top() / scale),
                                std::lround(d.rect.right() / scale),
@@ -94,7 +98,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
                                             const dlib::rect_detection& b) {
     return a.detection_confidence > b.detection_confidence;
   });
-  detection_seconds_ = seconds_since(start);
+  detection_seconds += seconds_since(start);
 
   const auto landmark_start = Clock::now();
   std::vector<DetectedFace> faces;
@@ -107,12 +111,58 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
     face.bottom = d.rect.bottom();
     face.score = d.detection_confidence;
     if (face.size() < min_size * 0.8) continue;  // the scaled detector's window allows ~20% less
-    face.landmarks = to_landmarks(impl_->predictor(grey, d.rect));
+    face.landmarks = to_landmarks(predictor(grey, d.rect));
     faces.push_back(face);
   }
-  landmark_seconds_ = seconds_since(landmark_start);
+  landmark_seconds += seconds_since(landmark_start);
   return faces;
 }
+
+}  // namespace
+
+std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
+                                               const DetectionOptions& options) {
+  check(photo.width > 0 && photo.height > 0, "face detection: the photo is empty");
+  detection_seconds_ = landmark_seconds_ = 0;
+  dlib::array2d<unsigned char> grey;
+  to_grey(photo, grey);
+  std::vector<DetectedFace> faces = detect_upright(impl_->detector, impl_->predictor, grey, options, detection_seconds_, landmark_seconds_);
+  for (double degrees : options.fallback_rotations_deg) {
+    if (!faces.empty()) break;
+    // The HOG detector and the shape predictor want upright faces: turn the photo, detect,
+    // and map the boxes and landmarks back.
+    const auto start = Clock::now();
+    dlib::array2d<unsigned char> turned;
+    const dlib::point_transform_affine to_turned =
+        dlib::rotate_image(grey, turned, degrees * 3.14159265358979323846 / 180.0,
+                           dlib::interpolate_bilinear());
+    const dlib::point_transform_affine back = dlib::inv(to_turned);
+    detection_seconds_ += seconds_since(start);
+    faces = detect_upright(impl_->detector, impl_->predictor, turned, options, detection_seconds_, landmark_seconds_);
+    for (DetectedFace& face : faces) {
+      for (Point2& p : face.landmarks) {
+        const dlib::dpoint q = back(dlib::dpoint(p.x, p.y));
+        p = {q.x(), q.y()};
+      }
+      double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300;
+      for (double x : {face.left, face.right})
+        for (double y : {face.top, face.bottom}) {
+          const dlib::dpoint q = back(dlib::dpoint(x, y));
+          lx = std::min(lx, q.x());
+          ly = std::min(ly, q.y());
+          hx = std::max(hx, q.x());
+          hy = std::max(hy, q.y());
+        }
+      face.left = lx;
+      face.top = ly;
+      face.right = hx;
+      face.bottom = hy;
+      face.rotation_deg = degrees;
+    }
+  }
+  return faces;
+}
+
 
 Landmarks68 FaceDetector::landmarks_in_box(const RgbImage& photo, double left, double top,
                                            double right, double bottom) {

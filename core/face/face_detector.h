@@ -18,6 +18,7 @@ struct DetectedFace {
   double left = 0, top = 0, right = 0, bottom = 0;  // detector box, photo pixels
   double score = 0;                                  // HOG detector margin (> 0: a face)
   Landmarks68 landmarks{};                           // photo pixels
+  double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
   double size() const { return std::max(right - left, bottom - top); }
 };
 
@@ -25,6 +26,10 @@ struct DetectionOptions {
   int max_faces = 0;            // keep the best-scoring this many (0: all)
   double min_face_size = 0;     // photo pixels; 0: automatic, max(80, shorter side / 8)
   double score_threshold = 0;   // detector margin below which a box is not a face
+  // When the upright photo has no face, the photo turned by these angles (degrees, counter-
+  // clockwise on screen) is searched in turn until one has; the HOG detector finds only
+  // roughly upright faces (about +-20 degrees of roll).
+  std::vector<double> fallback_rotations_deg = {-30, 30, -90, 90, 180};
 };
 
 class FaceDetector {
