@@ -25,7 +25,7 @@ struct DetectedFace {
 struct DetectionOptions {
   int max_faces = 0;            // keep the best-scoring this many (0: all)
   double min_face_size = 0;     // photo pixels; 0: automatic, max(80, shorter side / 8)
-  double score_threshold = 0;   // detector margin below which a box is not a face
+  double score_threshold = 0.25;  // detector margin below which a box is not a face
   // When the upright photo has no face, the photo turned by these angles (degrees, counter-
   // clockwise on screen) is searched in turn until one has; the HOG detector finds only
   // roughly upright faces (about +-20 degrees of roll).

@@ -144,7 +144,7 @@ TEST(PasteBack, AlignThenPasteBackReproducesThePhotoInsideTheMask) {
   const double mean = inside_error / (3.0 * inside);
   std::printf("align + paste-back: mean |difference| inside the mask %.4f (linear), %d pixels\n",
               mean, inside);
-  EXPECT_LT(mean, 0.01);  // two bilinear resamplings of a photo at about its own scale
+  EXPECT_LT(mean, 0.015);  // two bilinear resamplings of a photo at about its own scale (0.0094 measured)
   EXPECT_EQ(outside_changed, 0);
 }
 
