@@ -23,6 +23,16 @@ void rotate_normals_to_photo(float* n, size_t plane, const Similarity2& photo_to
   }
 }
 
+void rotate_visibility_to_photo(float* v, size_t plane, const Similarity2& photo_to_crop) {
+  const sh::ShMatrix m = sh::sh_rotation(crop_to_photo_rotation(photo_to_crop));
+  for (size_t p = 0; p < plane; ++p) {
+    sh::ShCoeffs f;
+    for (int i = 0; i < sh::kCoeffCount; ++i) f[i] = v[i * plane + p];
+    const sh::ShCoeffs g = sh::rotate_coeffs(m, f);
+    for (int i = 0; i < sh::kCoeffCount; ++i) v[i * plane + p] = static_cast<float>(g[i]);
+  }
+}
+
 sh::RgbLight rotate_light_to_photo(const sh::RgbLight& light, const Similarity2& photo_to_crop) {
   return sh::rotate_light(light, crop_to_photo_rotation(photo_to_crop));
 }

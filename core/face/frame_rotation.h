@@ -16,6 +16,10 @@ sh::Mat3 crop_to_photo_rotation(const Similarity2& photo_to_crop);
 // Rotates planar normals [3][plane] (camera frame of the crop) into the photo's frame.
 void rotate_normals_to_photo(float* planar_normals, size_t plane, const Similarity2& photo_to_crop);
 
+// Rotates planar visibility [9][plane] (each pixel's SH coefficients of the directions it sees
+// light from, in the crop's frame) into the photo's frame.
+void rotate_visibility_to_photo(float* planar_visibility, size_t plane, const Similarity2& photo_to_crop);
+
 // The light (27 SH coefficients) of the crop expressed in the photo's frame.
 sh::RgbLight rotate_light_to_photo(const sh::RgbLight& light, const Similarity2& photo_to_crop);
 
