@@ -6,6 +6,7 @@
 
 #include "core/face/face_template.h"
 #include "core/util/error.h"
+#include "core/util/parallel_for.h"
 
 namespace facetool {
 
@@ -46,7 +47,8 @@ std::vector<float> warp_to_crop(const RgbImage& photo, const Similarity2& photo_
   const size_t plane = static_cast<size_t>(crop_size) * crop_size;
   std::vector<float> out(plane * 3, 0.0f);
   const float weight = 1.0f / static_cast<float>(n * n);
-  for (int y = 0; y < crop_size; ++y)
+  parallel_for(crop_size, 4, [&](int64_t begin, int64_t end) {
+  for (int y = static_cast<int>(begin); y < end; ++y)
     for (int x = 0; x < crop_size; ++x) {
       float sum[3] = {0, 0, 0};
       for (int j = 0; j < n; ++j)
@@ -59,6 +61,7 @@ std::vector<float> warp_to_crop(const RgbImage& photo, const Similarity2& photo_
       const size_t at = static_cast<size_t>(y) * crop_size + x;
       for (int k = 0; k < 3; ++k) out[k * plane + at] = sum[k] * weight;
     }
+  });
   return out;
 }
 

@@ -62,6 +62,20 @@ double signed_distance_inside(const std::vector<Point2>& polygon, Point2 p) {
   return is_inside ? inside : -outside;
 }
 
+double depth_inside(const std::vector<Point2>& polygon, Point2 p) {
+  if (polygon.size() < 3) return 0;
+  double inside = std::numeric_limits<double>::max();
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    if (len == 0) continue;
+    const double side = cross(a, b, p) / len;
+    if (side <= 0) return 0;
+    inside = std::min(inside, side);
+  }
+  return inside;
+}
+
 std::vector<float> rasterize_mask(const std::vector<Point2>& polygon, int size) {
   std::vector<float> mask(static_cast<size_t>(size) * size, 0.0f);
   for (int y = 0; y < size; ++y)

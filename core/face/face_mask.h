@@ -21,6 +21,10 @@ std::vector<Point2> face_mask_polygon(const Landmarks68& landmarks, bool extend_
 // from face_mask_polygon).
 double signed_distance_inside(const std::vector<Point2>& convex_polygon, Point2 p);
 
+// max(0, signed_distance_inside(polygon, p)): the depth inside, 0 outside (cheaper: no
+// distance to the boundary is computed for points outside).
+double depth_inside(const std::vector<Point2>& convex_polygon, Point2 p);
+
 // size x size raster: 1 where the pixel centre is inside the polygon, else 0.
 std::vector<float> rasterize_mask(const std::vector<Point2>& convex_polygon, int size);
 

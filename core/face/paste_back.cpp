@@ -6,6 +6,7 @@
 
 #include "core/face/face_mask.h"
 #include "core/util/error.h"
+#include "core/util/parallel_for.h"
 
 namespace facetool {
 
@@ -31,13 +32,16 @@ PasteRegion paste_region(int photo_width, int photo_height, const Similarity2& p
   r.width = std::max(0, x1 - r.x0);
   r.height = std::max(0, y1 - r.y0);
   r.alpha.assign(static_cast<size_t>(r.width) * r.height, 0.0f);
-  for (int y = 0; y < r.height; ++y)
+  parallel_for(r.height, 16, [&](int64_t begin, int64_t end) {
+  for (int y = static_cast<int>(begin); y < end; ++y)
     for (int x = 0; x < r.width; ++x) {
       const Point2 c = photo_to_crop.apply({static_cast<double>(r.x0 + x), static_cast<double>(r.y0 + y)});
-      const double d = signed_distance_inside(polygon, c);
+      const double d = feather > 0 ? depth_inside(polygon, c)
+                                   : signed_distance_inside(polygon, c);
       const double a = feather > 0 ? d / feather : (d >= 0 ? 1.0 : 0.0);
       r.alpha[static_cast<size_t>(y) * r.width + x] = static_cast<float>(std::clamp(a, 0.0, 1.0));
     }
+  });
   return r;
 }
 
@@ -46,7 +50,8 @@ void paste_channels(const PasteRegion& r, const float* crop, int channels, float
   const int s = r.crop_size;
   const size_t crop_plane = static_cast<size_t>(s) * s;
   const size_t photo_plane = static_cast<size_t>(photo_width) * photo_height;
-  for (int y = 0; y < r.height; ++y)
+  parallel_for(r.height, 16, [&](int64_t begin, int64_t end) {
+  for (int y = static_cast<int>(begin); y < end; ++y)
     for (int x = 0; x < r.width; ++x) {
       const float a = r.alpha[static_cast<size_t>(y) * r.width + x];
       if (a <= 0) continue;
@@ -66,6 +71,7 @@ void paste_channels(const PasteRegion& r, const float* crop, int channels, float
         o = a * v + (1 - a) * o;
       }
     }
+  });
 }
 
 }  // namespace facetool

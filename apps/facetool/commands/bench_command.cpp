@@ -6,6 +6,7 @@
 #include "apps/facetool/bench/network_benchmarks.h"
 #include "apps/facetool/bench/op_benchmarks.h"
 #include "apps/facetool/bench/render_benchmarks.h"
+#include "apps/facetool/bench/photo_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
@@ -22,6 +23,7 @@ struct BenchSettings {
   int width = 128;
   int input_size = 128;
   int train_batch = 20;
+  std::string photo;
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -48,11 +50,16 @@ void bench_render(CommandContext& context, const BenchSettings& settings) {
   run_render_benchmarks(*renderer, backend, batch, settings.input_size, settings.repeats, std::cout);
 }
 
+void bench_photo(CommandContext&, const BenchSettings& settings) {
+  run_photo_benchmarks(settings.photo, settings.input_size, settings.quick ? 1 : settings.repeats, std::cout);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
-      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render}};
+      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render},
+                 {"photo", bench_photo}};
   return targets;
 }
 
@@ -72,7 +79,9 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
       ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
       ("width", po::value<int>()->default_value(128), "network: width (the paper: 128)")
       ("input-size", po::value<int>()->default_value(128), "network, render: image size (the paper: 128)")
-      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch");
+      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch")
+      ("photo", po::value<std::string>()->default_value("examples/photos/grace_hopper_512x512.jpg"),
+       "photo: a photo with one face (also timed enlarged to 12 megapixels)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
@@ -100,6 +109,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.width = values["width"].as<int>();
   settings.input_size = values["input-size"].as<int>();
   settings.train_batch = values["train-batch"].as<int>();
+  settings.photo = values["photo"].as<std::string>();
   if (values["quick"].as<bool>()) {
     settings.quick = true;
     settings.batches = {1};
@@ -110,7 +120,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render",
+    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench photo",
      run_bench}};
 
 }  // namespace
