@@ -237,6 +237,17 @@ TEST_P(RotatedPhoto, NormalsAndLightPointTheSameWayInThePhotoFrame) {
     const sh::Vec3 turned = {std::cos(t) * d[0] - std::sin(t) * d[1], std::sin(t) * d[0] + std::cos(t) * d[1], d[2]};
     const auto a = sh::light_eval(lu, d), b = sh::light_eval(lr, turned);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-9);
+    // Visibility is a function of direction too: the same turn applies.
+    std::vector<float> vu(9), vr(9);
+    for (int i = 0; i < 9; ++i) vu[i] = vr[i] = static_cast<float>(light[i]);
+    rotate_visibility_to_photo(vu.data(), 1, upright);
+    rotate_visibility_to_photo(vr.data(), 1, rotated);
+    sh::ShCoeffs fu, fr;
+    for (int i = 0; i < 9; ++i) {
+      fu[i] = vu[i];
+      fr[i] = vr[i];
+    }
+    EXPECT_NEAR(sh::sh_eval(fu, d), sh::sh_eval(fr, turned), 1e-4);
   }
 }
 
