@@ -156,5 +156,22 @@ TEST_F(PhotoCliTest, ExifOrientationIsHonoured) {
   EXPECT_EQ(*a.find_metadata("facetool:transform"), *b.find_metadata("facetool:transform"));
 }
 
+TEST_F(PhotoCliTest, GreySixteenBitAndRgbaPhotosAreHandled) {
+  if (std::system("oiiotool --help >/dev/null 2>&1") != 0) GTEST_SKIP() << "oiiotool (openimageio-tools) not found";
+  fs::create_directories(dir_ / "kinds");
+  ASSERT_EQ(std::system(("oiiotool " + at("photos/astronaut.png") + " --ch R --eraseattrib ICCProfile -d uint16 -o " +
+                         at("kinds/grey16.png")).c_str()), 0);
+  ASSERT_EQ(std::system(("oiiotool " + at("photos/grace_hopper_512x512.jpg") + " --ch R,G,B,A=1.0 -o " +
+                         at("kinds/rgba.png")).c_str()), 0);
+  ASSERT_EQ(run("prepare-real " + at("kinds") + " -o " + at("real_kinds"), at("log")), 0);
+  EXPECT_NE(read_text(at("log")).find("2 written, 0 kept from an earlier run, 0 skipped"), std::string::npos) << read_text(at("log"));
+  const LayeredImage grey = read_exr(at("real_kinds/sample_00000000.exr"));
+  const size_t plane = grey.plane_size();
+  for (size_t p = 0; p < plane; p += 97) {  // grey stays grey: R = G = B
+    EXPECT_EQ(grey.plane(0)[p], grey.plane(1)[p]);
+    EXPECT_EQ(grey.plane(0)[p], grey.plane(2)[p]);
+  }
+}
+
 }  // namespace
 }  // namespace facetool

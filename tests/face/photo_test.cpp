@@ -9,6 +9,8 @@
 
 #include "core/face/face_crops.h"
 #include "core/face/face_detector.h"
+#include "core/face/frame_rotation.h"
+#include "core/sh/sh_eval.h"
 #include "core/face/photo_reader.h"
 
 namespace facetool {
@@ -128,6 +130,23 @@ TEST_P(AlignmentInvariance, TurnedAndScaledPhotoGivesTheSameCrop) {
   EXPECT_LT(landmark_error, 1.0);     // crop pixels at 128 x 128, inter-ocular ~36 px (0.43-0.57)
   EXPECT_LT(pixel_error, 0.04);       // linear RGB inside the mask (0.021-0.028 measured)
   EXPECT_LT(std::abs(angle_difference), 2.0);
+
+  // The same crop-frame normal and light, carried back to each photo's frame, must differ by
+  // exactly the turn (counter-clockwise on screen = +t about +Z with +Y up), up to the
+  // alignments' difference.
+  const double t = v.degrees * kPi / 180;
+  std::vector<float> na = {0.6f, 0.0f, 0.8f}, nb = na;
+  rotate_normals_to_photo(na.data(), 1, ca.alignment.photo_to_crop);
+  rotate_normals_to_photo(nb.data(), 1, cb.alignment.photo_to_crop);
+  const double ex = std::cos(t) * na[0] - std::sin(t) * na[1], ey = std::sin(t) * na[0] + std::cos(t) * na[1];
+  const double normal_error_deg = std::acos(std::min(1.0, ex * nb[0] + ey * nb[1] + 0.8 * nb[2])) * 180 / kPi;
+  EXPECT_LT(normal_error_deg, 2.0);
+  sh::RgbLight light{};
+  light[1] = 1.0;  // a light from +Y (coefficient 1 ~ y) in the crop
+  const sh::RgbLight la = rotate_light_to_photo(light, ca.alignment.photo_to_crop);
+  const sh::RgbLight lb = rotate_light_to_photo(light, cb.alignment.photo_to_crop);
+  const sh::Vec3 d = {0.0, 1.0, 0.0}, turned = {-std::sin(t), std::cos(t), 0.0};
+  EXPECT_NEAR(sh::light_eval(la, d)[0], sh::light_eval(lb, turned)[0], 0.03);
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, AlignmentInvariance,

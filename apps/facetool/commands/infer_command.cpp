@@ -60,7 +60,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("batch", po::value<int>()->default_value(8), "images per network pass")
       ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
-      ("contact-sheet", po::value<std::string>(), "contact sheet PNG (default: <output>/contact_sheet.png)")
+      ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment");
