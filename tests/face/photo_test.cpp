@@ -2,6 +2,7 @@
 // scaled copies of a photo, no face in a picture without one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -90,6 +91,27 @@ TEST_F(PhotoTest, PictureWithoutAFaceGivesNoFace) {
       for (int c = 0; c < 3; ++c)
         picture.at(x, y)[c] = static_cast<float>(0.5 + 0.4 * std::sin(x * 0.05 + c) * std::cos(y * 0.03));
   EXPECT_TRUE(detector_->detect(picture).empty());
+}
+
+TEST_F(PhotoTest, RealFacesAcrossSkinTonesAndAgesAreFound) {
+  // UTKFace crops (../shared only; never copied into the project): the first 60 by name.
+  const std::string folder = std::string(FACETOOL_SHARED_DIR) + "/assets/faces/utkface-crop-part1";
+  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << "UTKFace photos not found at " << folder;
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(folder)) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  files.resize(std::min<size_t>(files.size(), 60));
+  int found = 0;
+  for (const std::string& f : files) {
+    const std::vector<DetectedFace> faces = detector_->detect(read_photo(f));
+    if (faces.empty()) continue;
+    ++found;
+    const Landmarks68& l = faces[0].landmarks;
+    EXPECT_LT(l[36].x, l[45].x) << f;  // eyes the right way round
+    EXPECT_LT(l[27].y, l[57].y) << f;  // nose bridge above the lower lip
+  }
+  std::printf("UTKFace: a face in %d of %zu photos\n", found, files.size());
+  EXPECT_GE(found, static_cast<int>(files.size() * 0.85));  // measured 56 of 60 (min score 0.25)
 }
 
 struct Variant {
