@@ -24,6 +24,7 @@ int run_face_template(CommandContext&, const std::vector<std::string>& args) {
           "crop units ((pixel centre + 0.5) / crop size) as C++ table rows.",
           options, po::positional_options_description{}, args, values))
     return 0;
+  check_option_ranges(values, {{"fov", 1, 120}});
   if (!values.count("face-model")) throw UsageError("face-template: give --face-model DIR");
   std::cout << template_table_source(generate_canonical_template(
       values["face-model"].as<std::string>(), values["fov"].as<double>()));

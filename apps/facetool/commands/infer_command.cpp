@@ -89,10 +89,12 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           "and decoded to linear RGB; EXR/HDR inputs as linear.",
           options, positional, args, values, hidden))
     return 0;
-  check_option_ranges(values, {{"seed", 0, 18446744073709551615.0},
-                               {"width", 1, 1024},
-                               {"input-size", 2, 1024},
-                               {"batch", 1, 1024}});
+  std::vector<OptionRange> ranges = {{"seed", 0, 18446744073709551615.0},
+                                     {"width", 1, 1024},
+                                     {"input-size", 2, 1024},
+                                     {"batch", 1, 1024}};
+  for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
+  check_option_ranges(values, ranges);
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   if (!values.count("output")) throw UsageError("infer: give an output folder with -o DIR");

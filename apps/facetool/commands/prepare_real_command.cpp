@@ -82,6 +82,9 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
           "training data) is for research use only: no commercial use.",
           options, positional, args, values, hidden))
     return 0;
+  std::vector<OptionRange> ranges = {{"size", 16, 1024}, {"max-edge-cut", 0, 1}};
+  for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
+  check_option_ranges(values, ranges);
   if (!values.count("inputs")) throw UsageError("prepare-real: no input folders given");
   if (!values.count("output")) throw UsageError("prepare-real: give an output folder with -o DIR");
   const int size = values["size"].as<int>();

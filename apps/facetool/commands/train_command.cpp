@@ -64,6 +64,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "Ctrl-C / SIGTERM and at the end; --resume continues from it.",
           options, {}, args, values))
     return 0;
+  check_option_ranges(values, {{"steps", 1, 1e9}});
   if (values["init"].as<std::string>() != "random")
     throw UsageError("--init takes only 'random'; use --from WEIGHTS for a weights file");
   const bool resume = values.count("resume") != 0;

@@ -246,6 +246,13 @@ void add_photo_infer_options(po::options_description& options) {
       ("transparent", "photo-level PNGs transparent outside the faces (default: the input photo there)");
 }
 
+std::vector<OptionRange> photo_option_ranges() {
+  return {{"max-faces", 0, 10000},
+          {"min-face-size", 0, 1e6},
+          {"min-score", -10, 10},
+          {"feather", 0, 256}};
+}
+
 PhotoInferOptions photo_options_from(const po::variables_map& values) {
   PhotoInferOptions o;
   o.detection.max_faces = values["max-faces"].as<int>();

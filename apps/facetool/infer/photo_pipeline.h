@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/facetool/commands/command_options.h"
 #include "core/backend/backend.h"
 #include "core/face/face_detector.h"
 #include "core/inference/decomposer.h"
@@ -25,6 +26,8 @@ struct PhotoInferOptions {
 // The photo options of `infer` (also used by prepare-real for the detection ones).
 void add_photo_detection_options(boost::program_options::options_description& options);
 void add_photo_infer_options(boost::program_options::options_description& options);
+// Valid ranges of the detection and paste-back options (for check_option_ranges).
+std::vector<OptionRange> photo_option_ranges();
 PhotoInferOptions photo_options_from(const boost::program_options::variables_map& values);
 
 // PHOTO|DIR arguments as photo files: a folder gives its image files (by extension, sorted, not
