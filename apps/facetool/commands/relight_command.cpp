@@ -67,7 +67,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
       ("intensity", po::value<double>()->default_value(1.0), "multiply the new light by this factor")
       ("mode", po::value<std::string>()->default_value("ratio"),
        "ratio: photo x new shading / old shading (keeps the photo's detail); render: albedo x new shading")
-      ("ratio-epsilon", po::value<double>()->default_value(relight::kDefaultRatioEpsilon),
+      ("ratio-epsilon", po::value<double>()->default_value(relight::kDefaultRatioEpsilon, "0.02"),
        "guard of the ratio: (new + e) / (old + e), shading units")
       ("no-visibility", "also render with the open hemisphere (no self-shadowing), side by side with the result")
       ("orbit", po::value<int>()->default_value(0), "turn the light once around the head in N frames: frames + animated GIF")
@@ -77,8 +77,10 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
       ("output,o", po::value<std::string>(), "output folder (one sub-folder per photo)")
       ("batch", po::value<int>()->default_value(8), "faces per network pass")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin");
+  options.add_options()
+      ("feather", po::value<double>()->default_value(3.0), "width of the blend at the mask's edge, crop pixels");
   add_network_options(options);
-  add_photo_infer_options(options);
+  add_photo_detection_options(options);
   po::options_description hidden;
   hidden.add_options()("photos", po::value<std::vector<std::string>>(), "target photos");
   po::positional_options_description positional;
@@ -105,7 +107,11 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
     throw UsageError("relight: --light-format goes with --light");
   check_network_choice(values, "relight");
   RelightSettings settings;
-  settings.mode = relight::mode_from_name(values["mode"].as<std::string>());
+  try {
+    settings.mode = relight::mode_from_name(values["mode"].as<std::string>());
+  } catch (const Error& e) {
+    throw UsageError(std::string("relight: ") + e.what());
+  }
   settings.ratio_epsilon = static_cast<float>(values["ratio-epsilon"].as<double>());
   if (!(settings.ratio_epsilon > 0)) throw UsageError("relight: --ratio-epsilon must be above 0");
   const double intensity = values["intensity"].as<double>();
