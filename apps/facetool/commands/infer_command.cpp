@@ -8,6 +8,7 @@
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/infer_outputs.h"
+#include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_pipeline.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
@@ -51,19 +52,14 @@ std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
 int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
-      ("model,m", po::value<std::string>(), "network weights (.safetensors, docs/model-format.md)")
-      ("init", po::value<std::string>(), "'random': untrained weights instead of --model (for testing the pipeline)")
-      ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
-      ("width", po::value<int>()->default_value(128), "network width for --init random")
-      ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
       ("output,o", po::value<std::string>(), "output folder (one sub-folder per image)")
       ("batch", po::value<int>()->default_value(8), "images per network pass")
-      ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
       ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment");
+  add_network_options(options);
   add_photo_infer_options(options);
   po::options_description hidden;
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "input images");
@@ -89,19 +85,14 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           "and decoded to linear RGB; EXR/HDR inputs as linear.",
           options, positional, args, values, hidden))
     return 0;
-  std::vector<OptionRange> ranges = {{"seed", 0, 18446744073709551615.0},
-                                     {"width", 1, 1024},
-                                     {"input-size", 2, 1024},
-                                     {"batch", 1, 1024}};
+  std::vector<OptionRange> ranges = network_option_ranges();
+  ranges.push_back({"batch", 1, 1024});
   for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
   check_option_ranges(values, ranges);
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   if (!values.count("output")) throw UsageError("infer: give an output folder with -o DIR");
-  if (values.count("model") == values.count("init"))
-    throw UsageError("infer: give exactly one of --model WEIGHTS or --init random");
-  if (values.count("init") && values["init"].as<std::string>() != "random")
-    throw UsageError("infer: --init takes only 'random'");
+  check_network_choice(values, "infer");
   const int batch = values["batch"].as<int>();
   if (batch < 1) throw UsageError("infer: --batch must be at least 1");
   const bool aligned = values.count("aligned") > 0;
@@ -117,24 +108,9 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   const std::string out_dir = values["output"].as<std::string>();
 
   Backend& backend = get_backend(context.backend);
-  std::shared_ptr<NetworkPlugin> network;
-  std::string architecture = values.count("network") ? values["network"].as<std::string>() : "";
-  if (values.count("model")) {
-    const std::string path = values["model"].as<std::string>();
-    const SafeTensors weights = SafeTensors::read_file(path);
-    const WeightsHeader header = read_weights_header(weights, path);
-    if (architecture.empty()) architecture = header.architecture;
-    check(architecture == header.architecture, "weights '", path, "' are for network '",
-          header.architecture, "' but --network asks for '", architecture, "'");
-    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
-    network->build(backend, header.config);
-    load_network_weights(*network, weights, path);
-  } else {
-    if (architecture.empty()) architecture = "paper_network";
-    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
-    network->build(backend, NetworkConfig{values["width"].as<int>(), values["input-size"].as<int>()});
-    network->init_random(values["seed"].as<uint64_t>());
-  }
+  const LoadedNetwork loaded = load_network(context, values, backend);
+  NetworkPlugin* network = loaded.network.get();
+  const std::string& architecture = loaded.architecture;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
                                                  values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);

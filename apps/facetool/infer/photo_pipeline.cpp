@@ -38,6 +38,8 @@ bool is_photo_file(const fs::path& path) {
   return false;
 }
 
+}  // namespace
+
 // Runs the decomposer over `count` crops in batches and concatenates the results.
 Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
                             int count, int size, int batch) {
@@ -62,11 +64,15 @@ Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std:
   return all;
 }
 
+namespace {
+
 // Photo-resolution planar layers, premultiplied by the faces' coverage `alpha`.
 struct PastedLayers {
   int width = 0, height = 0;
   std::vector<float> alpha, albedo, normal, visibility, shading, reconstruction;
 };
+
+}  // namespace
 
 RgbImage planar_rgb(const float* planar, int w, int h) {
   RgbImage img;
@@ -78,6 +84,8 @@ RgbImage planar_rgb(const float* planar, int w, int h) {
     for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = planar[c * plane + p];
   return img;
 }
+
+namespace {
 
 // One photo-level PNG: the premultiplied layer over the input, or un-premultiplied with alpha.
 void write_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,

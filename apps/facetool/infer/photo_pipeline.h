@@ -34,6 +34,14 @@ PhotoInferOptions photo_options_from(const boost::program_options::variables_map
 // recursive). Throws facetool::Error for a path that is neither.
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs);
 
+// Runs the decomposer over `count` planar crops [count][3][size][size] in batches of `batch`
+// and concatenates the results (also used by `facetool relight`).
+Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
+                            int count, int size, int batch);
+
+// Planar [3][w*h] values as an interleaved RgbImage.
+RgbImage planar_rgb(const float* planar, int w, int h);
+
 // Runs every photo; a photo that cannot be read or has no face gets a line on stderr and the
 // run goes on. Returns the number of such photos.
 int infer_photos(const std::vector<std::string>& photos, const std::string& out_dir,
