@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
+  libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )

@@ -17,7 +17,7 @@ namespace facetool {
 namespace {
 
 int run(const std::string& args) {
-  const std::string command = std::string(FACETOOL_EXE) + " infer " + args + (std::getenv("FACETOOL_TEST_VERBOSE") ? "" : " 2>/dev/null");
+  const std::string command = std::string(FACETOOL_EXE) + " infer --aligned " + args + (std::getenv("FACETOOL_TEST_VERBOSE") ? "" : " 2>/dev/null");
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }

@@ -8,6 +8,7 @@
 #include "apps/facetool/bench/op_benchmarks.h"
 #include "apps/facetool/bench/render_benchmarks.h"
 #include "apps/facetool/bench/train_benchmarks.h"
+#include "apps/facetool/bench/photo_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
@@ -25,6 +26,7 @@ struct BenchSettings {
   int input_size = 128;
   int train_batch = 20;
   bool width_given = false;  // --width on the command line (bench train: else 32, 64, 128)
+  std::string photo;
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -67,12 +69,16 @@ void bench_train(CommandContext& context, const BenchSettings& settings) {
       std::cout);
 }
 
+void bench_photo(CommandContext&, const BenchSettings& settings) {
+  run_photo_benchmarks(settings.photo, settings.input_size, settings.quick ? 1 : settings.repeats, std::cout);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
       targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render},
-                 {"train", bench_train}};
+                 {"train", bench_train}, {"photo", bench_photo}};
   return targets;
 }
 
@@ -92,7 +98,9 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
       ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
       ("width", po::value<int>()->default_value(128), "network: width (the paper: 128)")
       ("input-size", po::value<int>()->default_value(128), "network, render: image size (the paper: 128)")
-      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch");
+      ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch")
+      ("photo", po::value<std::string>()->default_value("examples/photos/grace_hopper_512x512.jpg"),
+       "photo: a photo with one face (also timed enlarged to 12 megapixels)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
@@ -128,6 +136,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.width_given = !values["width"].defaulted();
   settings.input_size = values["input-size"].as<int>();
   settings.train_batch = values["train-batch"].as<int>();
+  settings.photo = values["photo"].as<std::string>();
   if (values["quick"].as<bool>()) {
     settings.quick = true;
     settings.batches = {1};
@@ -138,7 +147,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench train",
+    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench train, bench photo",
      run_bench}};
 
 }  // namespace

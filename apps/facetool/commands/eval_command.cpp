@@ -89,6 +89,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
           "measured in the face mask eroded by one pixel.",
           options, {}, args, values))
     return 0;
+  check_option_ranges(values, {{"batch", 1, 1024}});
   if (batch < 1) throw UsageError("eval: --batch must be at least 1");
   check(fs::is_directory(data), "eval: data folder '", data, "' does not exist");
   std::vector<std::string> files;

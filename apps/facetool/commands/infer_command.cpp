@@ -9,6 +9,8 @@
 #include "apps/facetool/commands/output_option.h"
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/infer_outputs.h"
+#include "apps/facetool/infer/network_loading.h"
+#include "apps/facetool/infer/photo_pipeline.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
 #include "core/inference/decomposer.h"
@@ -51,17 +53,14 @@ std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
 int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
-      ("model,m", po::value<std::string>(), "network weights (.safetensors, docs/model-format.md)")
-      ("init", po::value<std::string>(), "'random': untrained weights instead of --model (for testing the pipeline)")
-      ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
-      ("width", po::value<int>()->default_value(128), "network width for --init random")
-      ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
       ("batch", po::value<int>()->default_value(8), "images per network pass")
-      ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
-      ("contact-sheet", po::value<std::string>(), "contact sheet PNG (default: <output>/contact_sheet.png)")
+      ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
-      ("raw-output", po::value<std::string>(), "also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file");
+      ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
+      ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment");
+  add_network_options(options);
+  add_photo_infer_options(options);
   po::options_description hidden;
   std::string out_dir;
   add_output_option(options, hidden, &out_dir, "DIR", "output folder (one sub-folder per image)");
@@ -70,20 +69,28 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   positional.add("images", -1);
   po::variables_map values;
   if (!parse_command_options(
-          "infer IMAGE... (--model WEIGHTS | --init random) -o DIR [options]",
-          "Decomposes face crops (images already cropped to the face; they are resized to the "
-          "network's input)\ninto albedo, normals, SH visibility and SH light, and renders them "
-          "back. Per image it writes\n<output>/<name>/: input.png, reconstruction.png, "
+          "infer PHOTO|DIR... (--model WEIGHTS | --init random) -o DIR [options]",
+          "Finds every face in each photo (folders: every photo in them), aligns it to the "
+          "synthetic framing,\ndecomposes it into albedo, normals, SH visibility and SH light, "
+          "and pastes the results back at\nthe photo's resolution. Per photo, <output>/<name>/ "
+          "holds albedo/normal/visibility/shading/\nreconstruction.png and photo.exr (all "
+          "channels, alpha = face coverage), faces.json (boxes, scores,\nlandmarks, transforms, "
+          "light in the photo's frame), contact_sheet.png (faces and landmarks\ndrawn) and one "
+          "face_<k>/ folder per face with the crop-level files below. A photo without a\nface "
+          "is reported and skipped; the exit status is 1 if any photo failed (docs/photos.md).\n"
+          "The landmark model (dlib, iBUG 300-W training data) is for research use only: no "
+          "commercial use.\n\nWith --aligned the inputs are face crops (resized to the "
+          "network's input). Per image it writes\n<output>/<name>/: input.png, reconstruction.png, "
           "albedo.png/.exr, shading.png/.exr,\nnormal.png/.exr (PNG: (n+1)/2), visibility.png "
           "(ambient term)/.exr (9 channels), light.json, light.png.\nThe contact sheet shows per row: input, "
           "reconstruction, albedo, shading, normal, visibility.\n8-bit inputs are taken as sRGB "
           "and decoded to linear RGB; EXR/HDR inputs as linear.",
           options, positional, args, values, hidden))
     return 0;
-  check_option_ranges(values, {{"seed", 0, 18446744073709551615.0},
-                               {"width", 1, 1024},
-                               {"input-size", 2, 1024},
-                               {"batch", 1, 1024}});
+  std::vector<OptionRange> ranges = network_option_ranges();
+  ranges.push_back({"batch", 1, 1024});
+  for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
+  check_option_ranges(values, ranges);
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   check_output_option(values, "infer", "an output folder with -o DIR");
@@ -96,39 +103,35 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     check_output_file_location(values["contact-sheet"].as<std::string>(), "--contact-sheet");
   if (values.count("raw-output"))
     check_output_file_location(values["raw-output"].as<std::string>(), "--raw-output");
-  if (values.count("model") == values.count("init"))
-    throw UsageError("infer: give exactly one of --model WEIGHTS or --init random");
-  if (values.count("init") && values["init"].as<std::string>() != "random")
-    throw UsageError("infer: --init takes only 'random'");
+  check_network_choice(values, "infer");
   const int batch = values["batch"].as<int>();
   if (batch < 1) throw UsageError("infer: --batch must be at least 1");
-  const std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
+  const bool aligned = values.count("aligned") > 0;
+  if (!aligned && values.count("raw-output")) throw UsageError("infer: --raw-output needs --aligned");
+  const std::vector<std::string> files =
+      aligned ? values["images"].as<std::vector<std::string>>()
+              : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
   for (const std::string& f : files)
     check(fs::is_regular_file(f), "input image '", f, "' does not exist or is not a file");
+  PhotoInferOptions photo_options = photo_options_from(values);
+  photo_options.batch = batch;
+  photo_options.contact_sheet = !values.count("no-contact-sheet");
 
   Backend& backend = get_backend(context.backend);
-  std::shared_ptr<NetworkPlugin> network;
-  std::string architecture = values.count("network") ? values["network"].as<std::string>() : "";
-  if (values.count("model")) {
-    const std::string path = values["model"].as<std::string>();
-    const SafeTensors weights = SafeTensors::read_file(path);
-    const WeightsHeader header = read_weights_header(weights, path);
-    if (architecture.empty()) architecture = header.architecture;
-    check(architecture == header.architecture, "weights '", path, "' are for network '",
-          header.architecture, "' but --network asks for '", architecture, "'");
-    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
-    network->build(backend, header.config);
-    load_network_weights(*network, weights, path);
-  } else {
-    if (architecture.empty()) architecture = "paper_network";
-    network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, architecture);
-    network->build(backend, NetworkConfig{values["width"].as<int>(), values["input-size"].as<int>()});
-    network->init_random(values["seed"].as<uint64_t>());
-  }
+  const LoadedNetwork loaded = load_network(context, values, backend);
+  NetworkPlugin* network = loaded.network.get();
+  const std::string& architecture = loaded.architecture;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
                                                  values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
+  if (!aligned) {
+    const int failed = infer_photos(files, out_dir, decomposer, backend, size, photo_options);
+    std::cerr << "wrote the results of " << files.size() - failed << " of " << files.size()
+              << " photos to " << out_dir << "\n";
+    if (failed > 0) std::cerr << failed << " photo(s) failed (see above)\n";
+    return failed > 0 ? 1 : 0;
+  }
 
   const std::vector<std::string> stems = unique_stems(files);
   std::vector<RgbImage> sheet_rows;
@@ -184,7 +187,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"infer", "decompose face crops into albedo, normals, visibility and light", run_infer}};
+    {"infer", "decompose the faces of photos (or face crops) into albedo, normals, visibility and light", run_infer}};
 
 }  // namespace
 }  // namespace facetool

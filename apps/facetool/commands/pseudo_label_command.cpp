@@ -91,6 +91,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
           "written as sample_<n>.exr in input order with a mask of 1 everywhere).",
           options, positional, args, values, hidden))
     return 0;
+  check_option_ranges(values, {{"batch", 1, 1024}});
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
   const auto files = values["images"].as<std::vector<std::string>>();

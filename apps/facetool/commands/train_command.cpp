@@ -48,7 +48,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   options.add_options()
       ("config", po::value(&config_path)->value_name("FILE.json")->required(),
        "training configuration (configs/*.json; docs/training.md)")
-      ("out", po::value(&out)->value_name("RUN")->required(),
+      ("out,o", po::value(&out)->value_name("RUN")->required(),
        "run folder: checkpoint.safetensors, weights.safetensors, log.jsonl, loss.png")
       ("init", po::value<std::string>()->value_name("random")->default_value("random"),
        "initial weights: random (seeded by the configuration's seed)")
@@ -64,6 +64,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "Ctrl-C / SIGTERM and at the end; --resume continues from it.",
           options, {}, args, values))
     return 0;
+  check_option_ranges(values, {{"steps", 1, 1e9}});
   if (values["init"].as<std::string>() != "random")
     throw UsageError("--init takes only 'random'; use --from WEIGHTS for a weights file");
   const bool resume = values.count("resume") != 0;

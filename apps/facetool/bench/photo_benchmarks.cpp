@@ -1,0 +1,70 @@
+// Photo-pipeline benchmarks on one photo and its 12-megapixel enlargement.
+#include "apps/facetool/bench/photo_benchmarks.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "core/face/face_crops.h"
+#include "core/face/frame_rotation.h"
+#include "core/face/landmark_drawing.h"
+#include "core/face/paste_back.h"
+#include "core/face/photo_reader.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repeats, std::ostream& out) {
+  std::vector<double> detect, landmarks, align, paste;
+  for (int r = 0; r < repeats; ++r) {
+    const std::vector<DetectedFace> faces = detector.detect(photo);
+    check(faces.size() == 1, "bench photo: expected one face, found ", faces.size());
+    detect.push_back(detector.last_detection_seconds());
+    landmarks.push_back(detector.last_landmark_seconds());
+    auto t0 = Clock::now();
+    const FaceCrop crop = crop_face(photo, faces[0], size, false);
+    align.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    // Paste-back of every output: alpha, albedo, normal (rotated), visibility (rotated), shading,
+    // reconstruction, as infer does.
+    const size_t crop_plane = static_cast<size_t>(size) * size, plane = static_cast<size_t>(photo.width) * photo.height;
+    std::vector<float> crop_data(crop_plane * 21, 0.5f), layers(plane * 22, 0.0f);
+    t0 = Clock::now();
+    const Similarity2& t = crop.alignment.photo_to_crop;
+    rotate_normals_to_photo(crop_data.data() + 3 * crop_plane, crop_plane, t);
+    rotate_visibility_to_photo(crop_data.data() + 6 * crop_plane, crop_plane, t);
+    const PasteRegion region = paste_region(photo.width, photo.height, t, size, crop.mask_polygon, 3.0);
+    paste_channels(region, crop_data.data(), 21, layers.data() + plane, photo.width, photo.height);
+    paste_channels(region, crop_data.data(), 1, layers.data(), photo.width, photo.height);
+    paste.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  char line[200];
+  const double total = median(detect) + median(landmarks) + median(align) + median(paste);
+  std::snprintf(line, sizeof line, "%5d x %-5d %6.1f MP | detect %8.1f ms | landmarks %6.1f ms | align %6.1f ms | paste-back %6.1f ms | total %8.1f ms\n",
+                photo.width, photo.height, photo.width * photo.height / 1e6, median(detect) * 1e3,
+                median(landmarks) * 1e3, median(align) * 1e3, median(paste) * 1e3, total * 1e3);
+  out << line;
+}
+
+}  // namespace
+
+void run_photo_benchmarks(const std::string& photo_path, int crop_size, int repeats, std::ostream& out) {
+  FaceDetector detector;
+  const RgbImage photo = read_photo(photo_path);
+  out << "photo pipeline on cpu (" << photo_path << ", crop " << crop_size << ", median of "
+      << repeats << "; the 12 MP photo is the same one enlarged)\n";
+  bench_one(detector, photo, crop_size, repeats, out);
+  const int width = static_cast<int>(std::lround(std::sqrt(12e6 * photo.width / photo.height)));
+  bench_one(detector, resize_to_width(photo, width), crop_size, repeats, out);
+}
+
+}  // namespace facetool

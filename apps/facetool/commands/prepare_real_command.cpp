@@ -1,0 +1,165 @@
+// `facetool prepare-real`: a real-photo dataset for stage 2 (aligned crops, masks, landmarks,
+// transforms) in the sample layout the dataset reader reads; resumable; skipped photos with a
+// reason in the manifest.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "apps/facetool/commands/command.h"
+#include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/infer/photo_pipeline.h"
+#include "core/face/face_crops.h"
+#include "core/face/photo_reader.h"
+#include "core/face/real_sample.h"
+#include "core/io/atomic_file.h"
+#include "core/io/exr_io.h"
+#include "core/synth/synth_sample.h"
+#include "core/util/progress_bar.h"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace facetool {
+namespace {
+
+struct Photo {
+  std::string path;    // as found
+  std::string source;  // relative to its input folder (the file name for a file argument)
+};
+
+std::vector<Photo> list_photos(const std::vector<std::string>& inputs) {
+  std::vector<Photo> photos;
+  for (const std::string& input : inputs) {
+    if (fs::is_directory(input)) {
+      std::vector<Photo> found;
+      for (const auto& e : fs::recursive_directory_iterator(input))
+        if (e.is_regular_file() && !is_temporary_file_name(e.path().filename().string())) {
+          std::string ext = e.path().extension().string();
+          std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+          if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff" ||
+              ext == ".bmp" || ext == ".webp" || ext == ".exr" || ext == ".hdr")
+            found.push_back({e.path().string(), fs::relative(e.path(), input).generic_string()});
+        }
+      std::sort(found.begin(), found.end(), [](const Photo& a, const Photo& b) { return a.source < b.source; });
+      check(!found.empty(), "folder '", input, "' holds no photos");
+      photos.insert(photos.end(), found.begin(), found.end());
+    } else {
+      check(fs::is_regular_file(input), "input '", input, "' does not exist or is not a file or folder");
+      photos.push_back({input, fs::path(input).filename().generic_string()});
+    }
+  }
+  return photos;
+}
+
+std::string clean(std::string text) {  // one TSV field
+  std::replace(text.begin(), text.end(), '\t', ' ');
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  return text;
+}
+
+int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  options.add_options()
+      ("output,o", po::value<std::string>(), "output folder (sample_XXXXXXXX.exr, manifest.tsv)")
+      ("size", po::value<int>()->default_value(128), "crop size, pixels (the network's input)")
+      ("max-edge-cut", po::value<double>()->default_value(0.05), "skip a face when more than this fraction of its mask lies outside the photo");
+  add_photo_detection_options(options);
+  po::options_description hidden;
+  hidden.add_options()("inputs", po::value<std::vector<std::string>>(), "photo folders");
+  po::positional_options_description positional;
+  positional.add("inputs", -1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "prepare-real DIR|PHOTO... -o REAL/ [options]",
+          "Builds a real-photo dataset for stage 2 of training: per photo (folders are searched\n"
+          "recursively, sorted by path) the best-scoring face is detected, aligned to the synthetic\n"
+          "framing and written as REAL/sample_<k>.exr (k = the photo's position in the sorted list):\n"
+          "channels R G B (linear; 8/16-bit photos are sRGB-decoded) and mask, attributes\n"
+          "facetool:source, facetool:landmarks, facetool:transform (docs/photos.md). A rerun keeps\n"
+          "the samples already written for the same photos. Photos without a usable face are\n"
+          "listed in REAL/manifest.tsv with the reason. The landmark model (dlib, iBUG 300-W\n"
+          "training data) is for research use only: no commercial use.",
+          options, positional, args, values, hidden))
+    return 0;
+  std::vector<OptionRange> ranges = {{"size", 16, 1024}, {"max-edge-cut", 0, 1}};
+  for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
+  check_option_ranges(values, ranges);
+  if (!values.count("inputs")) throw UsageError("prepare-real: no input folders given");
+  if (!values.count("output")) throw UsageError("prepare-real: give an output folder with -o DIR");
+  const int size = values["size"].as<int>();
+  if (size < 16) throw UsageError("prepare-real: --size must be at least 16");
+  const double max_cut = values["max-edge-cut"].as<double>();
+  PhotoInferOptions photo = photo_options_from(values);
+  photo.detection.max_faces = 1;
+  const std::vector<Photo> photos = list_photos(values["inputs"].as<std::vector<std::string>>());
+  const std::string out = values["output"].as<std::string>();
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  check(!ec, "cannot create output folder '", out, "': ", ec.message());
+  remove_stale_temporary_files(out);
+
+  FaceDetector detector(photo.landmark_model);
+  std::ostringstream manifest;
+  manifest << "# facetool prepare-real manifest: generator " << kRealGeneratorVersion << ", size "
+           << size << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull") << "\n"
+           << "file\tsource\tstatus\tdetail\n";
+  int written = 0, kept = 0, skipped = 0;
+  ProgressBar progress("prepare-real", static_cast<int64_t>(photos.size()), "photos");
+  for (size_t k = 0; k < photos.size(); ++k) {
+    const Photo& p = photos[k];
+    const std::string name = synth_sample_file_name(static_cast<int64_t>(k));
+    const std::string path = (fs::path(out) / name).string();
+    if (fs::exists(path)) {
+      const std::string source = read_real_sample_source(path);
+      check(source.empty() || source == p.source, "'", path, "' holds the sample of '", source,
+            "' but photo ", k, " is now '", p.source,
+            "': the input photos changed since that run; use a new output folder");
+      if (!source.empty()) {
+        manifest << name << "\t" << clean(p.source) << "\tkept\t\n";
+        ++kept;
+        progress.advance();
+        continue;
+      }
+    }
+    std::string reason;
+    try {
+      const RgbImage image = read_photo(p.path);
+      const std::vector<DetectedFace> faces = detector.detect(image, photo.detection);
+      if (faces.empty()) {
+        reason = "no face found";
+      } else {
+        const FaceCrop crop = crop_face(image, faces[0], size, photo.extend_forehead);
+        const double cut = mask_fraction_outside_photo(crop, image.width, image.height);
+        if (cut > max_cut) {
+          reason = "face cut by the photo's edge (" + std::to_string(static_cast<int>(cut * 100)) + "% of its mask outside)";
+        } else {
+          write_exr_atomically(path, real_sample_image(crop, p.source, photo.extend_forehead));
+          manifest << name << "\t" << clean(p.source) << "\twritten\tscore " << faces[0].score << "\n";
+          ++written;
+        }
+      }
+    } catch (const Error& e) {
+      reason = std::string("unreadable: ") + e.what();
+    }
+    if (!reason.empty()) {
+      if (fs::exists(path)) fs::remove(path);  // a damaged sample of this photo from a crash
+      manifest << "-\t" << clean(p.source) << "\tskipped\t" << clean(reason) << "\n";
+      ++skipped;
+    }
+    progress.advance();
+  }
+  progress.finish();
+  const std::string text = manifest.str();
+  write_file_atomically((fs::path(out) / "manifest.tsv").string(), text.data(), text.size());
+  std::cerr << "prepare-real: " << written << " written, " << kept << " kept from an earlier run, "
+            << skipped << " skipped (reasons in " << (fs::path(out) / "manifest.tsv").string() << ")\n";
+  return 0;
+}
+
+const CommandRegistration registration{
+    {"prepare-real", "build a real-photo dataset (aligned crops, masks, landmarks) for training",
+     run_prepare_real}};
+
+}  // namespace
+}  // namespace facetool

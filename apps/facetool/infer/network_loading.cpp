@@ -1,0 +1,54 @@
+// The network options shared by `infer` and `relight`: --model W or --init random, and loading it.
+#include "apps/facetool/infer/network_loading.h"
+
+#include "core/model/network_weights.h"
+#include "core/model/safetensors.h"
+
+namespace po = boost::program_options;
+
+namespace facetool {
+
+void add_network_options(po::options_description& options) {
+  options.add_options()
+      ("model,m", po::value<std::string>(), "network weights (.safetensors, docs/model-format.md)")
+      ("init", po::value<std::string>(), "'random': untrained weights instead of --model (for testing the pipeline)")
+      ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
+      ("width", po::value<int>()->default_value(128), "network width for --init random")
+      ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
+      ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)");
+}
+
+std::vector<OptionRange> network_option_ranges() {
+  return {{"seed", 0, 18446744073709551615.0}, {"width", 1, 1024}, {"input-size", 2, 1024}};
+}
+
+void check_network_choice(const po::variables_map& values, const std::string& command) {
+  if (values.count("model") == values.count("init"))
+    throw UsageError(command + ": give exactly one of --model WEIGHTS or --init random");
+  if (values.count("init") && values["init"].as<std::string>() != "random")
+    throw UsageError(command + ": --init takes only 'random'");
+}
+
+LoadedNetwork load_network(CommandContext& context, const po::variables_map& values, Backend& backend) {
+  LoadedNetwork out;
+  out.architecture = values.count("network") ? values["network"].as<std::string>() : "";
+  if (values.count("model")) {
+    const std::string path = values["model"].as<std::string>();
+    const SafeTensors weights = SafeTensors::read_file(path);
+    const WeightsHeader header = read_weights_header(weights, path);
+    if (out.architecture.empty()) out.architecture = header.architecture;
+    check(out.architecture == header.architecture, "weights '", path, "' are for network '",
+          header.architecture, "' but --network asks for '", out.architecture, "'");
+    out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
+    out.network->build(backend, header.config);
+    load_network_weights(*out.network, weights, path);
+  } else {
+    if (out.architecture.empty()) out.architecture = "paper_network";
+    out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
+    out.network->build(backend, NetworkConfig{values["width"].as<int>(), values["input-size"].as<int>()});
+    out.network->init_random(values["seed"].as<uint64_t>());
+  }
+  return out;
+}
+
+}  // namespace facetool

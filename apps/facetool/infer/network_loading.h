@@ -1,0 +1,35 @@
+// The network options shared by `infer` and `relight`: --model W or --init random, and loading it.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/facetool/commands/command.h"
+#include "apps/facetool/commands/command_options.h"
+#include "core/backend/backend.h"
+#include "core/plugin/network_plugin.h"
+
+namespace facetool {
+
+// --model, --init, --seed, --width, --input-size, --network.
+void add_network_options(boost::program_options::options_description& options);
+
+// Valid ranges of --seed, --width and --input-size (for check_option_ranges).
+std::vector<OptionRange> network_option_ranges();
+
+// Checks that exactly one of --model / --init random is given (UsageError naming `command`).
+void check_network_choice(const boost::program_options::variables_map& values, const std::string& command);
+
+struct LoadedNetwork {
+  std::shared_ptr<NetworkPlugin> network;
+  std::string architecture;
+};
+
+// Builds the network on `backend` from --model's weights (architecture from the file unless
+// --network says otherwise, which must then agree) or with --init random weights.
+LoadedNetwork load_network(CommandContext& context, const boost::program_options::variables_map& values,
+                           Backend& backend);
+
+}  // namespace facetool

@@ -1,0 +1,45 @@
+// The canonical template from the ICT face model through the synthetic camera.
+#include "core/face/template_generator.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/synth/face_model.h"
+#include "core/synth/pose_camera.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+Landmarks68 generate_canonical_template(const std::string& face_model_directory, double fov_deg) {
+  const FaceModel model = FaceModel::load(face_model_directory);
+  check(model.landmarks().size() == static_cast<size_t>(kLandmarkCount), "face model '",
+        face_model_directory, "' has no 68 landmark vertices (vertex_indices.json missing?)");
+  FaceMesh mesh = model.neutral();
+  apply_pose(mesh, HeadPose{});
+  Camera camera;
+  camera.width = camera.height = 1;  // crop units: the projection is independent of the size
+  camera.horizontal_fov_deg = fov_deg;
+  const double half = std::tan(0.5 * fov_deg * 3.14159265358979323846 / 180.0);
+  Landmarks68 out;
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    const int32_t v = model.landmarks()[i];
+    check(v >= 0, "face model '", face_model_directory, "': landmark ", i, " is not on a kept vertex");
+    const Vec3f p = mesh.positions[v];
+    const double depth = camera.distance - p.z;  // the camera looks down -Z from (0, 0, d)
+    const double u = p.x / depth / half, w = p.y / depth / half;  // [-1, 1] across the crop
+    out[i] = {(u + 1.0) * 0.5, (1.0 - w) * 0.5};
+  }
+  return out;
+}
+
+std::string template_table_source(const Landmarks68& landmarks) {
+  std::string s;
+  char line[96];
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    std::snprintf(line, sizeof line, "    {%.6f, %.6f},  // %d\n", landmarks[i].x, landmarks[i].y, i);
+    s += line;
+  }
+  return s;
+}
+
+}  // namespace facetool

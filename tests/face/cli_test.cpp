@@ -1,0 +1,177 @@
+// `facetool infer` on photos and `facetool prepare-real`: runs the built executable on the
+// example photos and a picture without a face; checks what is written and the exit status.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/face/face_detector.h"
+#include "core/io/exr_io.h"
+#include "core/io/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace facetool {
+namespace {
+
+int run(const std::string& args, const std::string& log) {
+  const std::string command = std::string(FACETOOL_EXE) + " " + args + " 2>" + log;
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+class PhotoCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(kDefaultLandmarkModel))
+      GTEST_SKIP() << "dlib's landmark model " << kDefaultLandmarkModel << " is not installed (libdlib-data)";
+    dir_ = fs::temp_directory_path() / ("facetool_photo_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_ / "photos");
+    for (const char* name : {"astronaut.png", "grace_hopper_512x512.jpg"})
+      fs::copy_file(fs::path(FACETOOL_EXAMPLES_DIR) / "photos" / name, dir_ / "photos" / name);
+    RgbImage plain;  // no face: a smooth pattern
+    plain.width = 200;
+    plain.height = 150;
+    plain.pixels.resize(200 * 150 * 3);
+    for (size_t i = 0; i < plain.pixels.size(); ++i) plain.pixels[i] = 0.3f + 0.2f * std::sin(i * 0.001f);
+    write_png_atomically((dir_ / "photos" / "wall.png").string(), plain);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+  std::string at(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(PhotoCliTest, InferFindsOneFacePerExampleAndReportsThePhotoWithout) {
+  const int status = run("infer " + at("photos") + " --init random --width 8 --input-size 64 -o " + at("out"), at("log"));
+  EXPECT_EQ(status, 1) << "a photo without a face must make the exit status non-zero";
+  const std::string log = read_text(at("log"));
+  EXPECT_NE(log.find("wall.png': no face found"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "wall"));
+  for (const char* stem : {"astronaut", "grace_hopper_512x512"}) {
+    const fs::path folder = dir_ / "out" / stem;
+    const std::string faces = read_text(folder / "faces.json");
+    EXPECT_EQ(count(faces, "\"folder\""), 1u) << stem << ": " << faces;
+    for (const char* file : {"albedo.png", "normal.png", "visibility.png", "shading.png",
+                             "reconstruction.png", "photo.exr", "contact_sheet.png",
+                             "face_0/input.png", "face_0/normal.exr", "face_0/light.json"})
+      EXPECT_TRUE(fs::is_regular_file(folder / file)) << stem << "/" << file;
+    const LayeredImage exr = read_exr((folder / "photo.exr").string());
+    EXPECT_EQ(exr.width, 512);
+    EXPECT_EQ(exr.height, 512);
+    const float* alpha = exr.plane(exr.require_channel("A", "photo.exr"));
+    const float* nz = exr.plane(exr.require_channel("normal.Z", "photo.exr"));
+    EXPECT_EQ(alpha[0], 0.0f);  // the top-left corner is no face
+    EXPECT_EQ(nz[0], 0.0f);
+    double covered = 0;
+    for (size_t p = 0; p < exr.plane_size(); ++p) covered += alpha[p];
+    EXPECT_GT(covered, 3000) << stem;  // the face's landmark hull, photo pixels
+    EXPECT_LT(covered, 0.5 * exr.plane_size()) << stem;
+    // The input is kept as it was (R G B = the photo, sRGB-decoded).
+    const RgbImage photo = read_rgb_image((dir_ / "photos" / (std::string(stem) + (stem[0] == 'a' ? ".png" : ".jpg"))).string(), true);
+    double worst = 0;
+    for (size_t p = 0; p < exr.plane_size(); ++p) worst = std::max(worst, static_cast<double>(std::abs(exr.plane(0)[p] - photo.pixels[p * 3])));
+    EXPECT_LT(worst, 1e-6);
+    // The contact sheet shows the landmarks: red dots (linear 1, 0.05, 0.05).
+    const RgbImage sheet = read_rgb_image((folder / "contact_sheet.png").string(), true);
+    int red = 0;
+    for (size_t p = 0; p < sheet.pixels.size() / 3; ++p)
+      red += std::abs(sheet.pixels[p * 3] - 1.0f) < 0.01f && std::abs(sheet.pixels[p * 3 + 1] - 0.05f) < 0.01f &&
+             std::abs(sheet.pixels[p * 3 + 2] - 0.05f) < 0.01f;
+    EXPECT_GE(red, 51) << stem;
+  }
+}
+
+TEST_F(PhotoCliTest, PrepareRealWritesSamplesResumesAndGivesReasons) {
+  ASSERT_EQ(run("prepare-real " + at("photos") + " -o " + at("real"), at("log")), 0) << read_text(at("log"));
+  // Sorted: astronaut.png (0), grace_hopper_512x512.jpg (1), wall.png (2, skipped).
+  for (int k = 0; k < 2; ++k) {
+    const std::string file = at("real/sample_0000000" + std::to_string(k) + ".exr");
+    const LayeredImage sample = read_exr(file, "facetool:");
+    EXPECT_EQ(sample.width, 128);
+    EXPECT_EQ(sample.channel_names, (std::vector<std::string>{"R", "G", "B", "mask"}));
+    ASSERT_NE(sample.find_metadata("facetool:generator_version"), nullptr);
+    EXPECT_EQ(*sample.find_metadata("facetool:generator_version"), "facetool-real-1");
+    EXPECT_EQ(*sample.find_metadata("facetool:source"), k == 0 ? "astronaut.png" : "grace_hopper_512x512.jpg");
+    std::istringstream landmarks(*sample.find_metadata("facetool:landmarks")), transform(*sample.find_metadata("facetool:transform"));
+    int numbers = 0;
+    for (double v; landmarks >> v;) {
+      EXPECT_TRUE(v > 0 && v < 128) << v;
+      ++numbers;
+    }
+    EXPECT_EQ(numbers, 136);
+    double t[6];
+    for (double& v : t) ASSERT_TRUE(transform >> v);
+    EXPECT_NEAR(t[0], t[4], 1e-9);   // a similarity: [a -b; b a]
+    EXPECT_NEAR(t[1], -t[3], 1e-9);
+    double mask = 0;
+    for (size_t p = 0; p < sample.plane_size(); ++p) mask += sample.plane(3)[p];
+    EXPECT_GT(mask, 500);
+  }
+  EXPECT_FALSE(fs::exists(at("real/sample_00000002.exr")));
+  const std::string manifest = read_text(at("real/manifest.tsv"));
+  EXPECT_NE(manifest.find("wall.png\tskipped\tno face found"), std::string::npos) << manifest;
+
+  // Resume: a sample that is there is kept, a missing one is written again, identically.
+  const std::string first = read_text(at("real/sample_00000001.exr"));
+  const auto kept_time = fs::last_write_time(at("real/sample_00000000.exr"));
+  fs::remove(at("real/sample_00000001.exr"));
+  ASSERT_EQ(run("prepare-real " + at("photos") + " -o " + at("real"), at("log")), 0);
+  EXPECT_EQ(fs::last_write_time(at("real/sample_00000000.exr")), kept_time);
+  EXPECT_EQ(read_text(at("real/sample_00000001.exr")), first);
+  EXPECT_NE(read_text(at("log")).find("1 written, 1 kept"), std::string::npos) << read_text(at("log"));
+}
+
+TEST_F(PhotoCliTest, ExifOrientationIsHonoured) {
+  // The astronaut stored turned by 90 degrees with Orientation 8 ("rotate 90 CCW to view") must
+  // give the same alignment as the upright file.
+  if (std::system("oiiotool --help >/dev/null 2>&1") != 0) GTEST_SKIP() << "oiiotool (openimageio-tools) not found";
+  fs::create_directories(dir_ / "turned");
+  ASSERT_EQ(std::system(("oiiotool " + at("photos/astronaut.png") + " --rotate90 --attrib Orientation 8 -o " +
+                         at("turned/astronaut.tif")).c_str()), 0);
+  ASSERT_EQ(run("prepare-real " + at("turned") + " -o " + at("real_turned"), at("log")), 0);
+  fs::remove(at("photos/grace_hopper_512x512.jpg"));
+  fs::remove(at("photos/wall.png"));
+  ASSERT_EQ(run("prepare-real " + at("photos") + " -o " + at("real_upright"), at("log")), 0);
+  const LayeredImage a = read_exr(at("real_upright/sample_00000000.exr"), "facetool:");
+  const LayeredImage b = read_exr(at("real_turned/sample_00000000.exr"), "facetool:");
+  EXPECT_EQ(*a.find_metadata("facetool:transform"), *b.find_metadata("facetool:transform"));
+}
+
+TEST_F(PhotoCliTest, GreySixteenBitAndRgbaPhotosAreHandled) {
+  if (std::system("oiiotool --help >/dev/null 2>&1") != 0) GTEST_SKIP() << "oiiotool (openimageio-tools) not found";
+  fs::create_directories(dir_ / "kinds");
+  ASSERT_EQ(std::system(("oiiotool " + at("photos/astronaut.png") + " --ch R --eraseattrib ICCProfile -d uint16 -o " +
+                         at("kinds/grey16.png")).c_str()), 0);
+  ASSERT_EQ(std::system(("oiiotool " + at("photos/grace_hopper_512x512.jpg") + " --ch R,G,B,A=1.0 -o " +
+                         at("kinds/rgba.png")).c_str()), 0);
+  ASSERT_EQ(run("prepare-real " + at("kinds") + " -o " + at("real_kinds"), at("log")), 0);
+  EXPECT_NE(read_text(at("log")).find("2 written, 0 kept from an earlier run, 0 skipped"), std::string::npos) << read_text(at("log"));
+  const LayeredImage grey = read_exr(at("real_kinds/sample_00000000.exr"));
+  const size_t plane = grey.plane_size();
+  for (size_t p = 0; p < plane; p += 97) {  // grey stays grey: R = G = B
+    EXPECT_EQ(grey.plane(0)[p], grey.plane(1)[p]);
+    EXPECT_EQ(grey.plane(0)[p], grey.plane(2)[p]);
+  }
+}
+
+}  // namespace
+}  // namespace facetool
