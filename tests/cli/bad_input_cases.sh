@@ -51,7 +51,7 @@ make_fixtures() {
                   "b": [2.5, 0.3, 0.8, 0.2, 0, 0, 0, 0, 0]}}
 EOF
   "$FACETOOL" light show "$FX/light.json" -o "$FX/picture.png" --size 32 > /dev/null &&
-    "$FACETOOL" infer --init random --input-size 32 --width 8 "$FX/picture.png" \
+    "$FACETOOL" infer --aligned --init random --input-size 32 --width 8 "$FX/picture.png" \
       -o "$FX/infer" --raw-output "$FX/raw.safetensors" > /dev/null 2>&1 || return 1
   cp "$FX/infer/picture/input.png" "$FX/face.png"
   cp "$FX/infer/picture/albedo.exr" "$FX/albedo.exr"
@@ -166,8 +166,8 @@ EOF
 # File slots: GROUP|OPTION-NAME|arguments with @ for the bad file and OUT for the output folder.
 file_slots() {
   cat <<'EOF'
-infer|image|infer --init random --input-size 32 --width 8 {BAD} -o {OUT}/infer
-infer|model|infer --model {BAD} {FX}/face.png -o {OUT}/infer
+infer|image|infer --aligned --init random --input-size 32 --width 8 {BAD} -o {OUT}/infer
+infer|model|infer --aligned --model {BAD} {FX}/face.png -o {OUT}/infer
 render|albedo|render --albedo {BAD} --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.png
 render|normal|render --albedo {FX}/albedo.exr --normal {BAD} --light {FX}/light.json -o {OUT}/out.png
 render|visibility|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --visibility {BAD} --light {FX}/light.json -o {OUT}/out.exr
@@ -191,7 +191,7 @@ global/no-command|no command|
 global/unknown-command|nonsense|nonsense
 global/unknown-option|--nonsense|--nonsense
 global/unknown-backend|nonsense|--backend nonsense backends
-global/unknown-backend-infer|nonsense|--backend nonsense infer --init random {FX}/face.png -o {OUT}/infer
+global/unknown-backend-infer|nonsense|--backend nonsense infer --aligned --init random {FX}/face.png -o {OUT}/infer
 global/unknown-backend-render|nonsense|--backend nonsense render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.png
 global/opencl-bad-index|index 99|--backend opencl:99 backends
 backends/unknown-option|--nonsense|backends --nonsense
@@ -209,24 +209,24 @@ bench/repeats-0|--repeats|bench ops --repeats 0
 bench/width-0|--width|bench network --width 0
 bench/input-size-0|--input-size|bench render --input-size 0
 bench/train-batch-negative|--train-batch|bench network --train-batch=-3
-infer/no-images|input images|infer --init random -o {OUT}/infer
-infer/no-output|-o|infer --init random {FX}/face.png
-infer/model-and-init|--model|infer --init random --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/infer
+infer/no-images|input images|infer --aligned --init random -o {OUT}/infer
+infer/no-output|-o|infer --aligned --init random {FX}/face.png
+infer/model-and-init|--model|infer --aligned --init random --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/infer
 infer/init-unknown|--init|infer --init zeros {FX}/face.png -o {OUT}/infer
-infer/batch-0|--batch|infer --init random --batch 0 {FX}/face.png -o {OUT}/infer
-infer/batch-letters|--batch|infer --init random --batch x {FX}/face.png -o {OUT}/infer
-infer/width-0|--width|infer --init random --width 0 {FX}/face.png -o {OUT}/infer
-infer/input-size-0|--input-size|infer --init random --input-size 0 {FX}/face.png -o {OUT}/infer
-infer/seed-negative|--seed|infer --init random --seed=-1 {FX}/face.png -o {OUT}/infer
-infer/unknown-network|nonsense|infer --init random --network nonsense {FX}/face.png -o {OUT}/infer
-infer/unknown-renderer|nonsense|infer --init random --renderer nonsense {FX}/face.png -o {OUT}/infer
-infer/model-not-weights|raw.safetensors|infer --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/infer
-infer/model-truncated|truncated.safetensors|infer --model {FX}/truncated.safetensors {FX}/face.png -o {OUT}/infer
-infer/image-nan-exr|nan.exr|infer --init random --input-size 32 --width 8 {FX}/nan.exr -o {OUT}/infer
-infer/output-is-a-file|out.png|infer --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/out.png
-infer/contact-sheet-missing-folder|no_such_folder|infer --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --contact-sheet {OUT}/no_such_folder/sheet.png
-infer/raw-output-missing-folder|no_such_folder|infer --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --raw-output {OUT}/no_such_folder/raw.safetensors
-infer/out-and-output|--output|infer --init random {FX}/face.png -o {OUT}/infer --out {OUT}/infer
+infer/batch-0|--batch|infer --aligned --init random --batch 0 {FX}/face.png -o {OUT}/infer
+infer/batch-letters|--batch|infer --aligned --init random --batch x {FX}/face.png -o {OUT}/infer
+infer/width-0|--width|infer --aligned --init random --width 0 {FX}/face.png -o {OUT}/infer
+infer/input-size-0|--input-size|infer --aligned --init random --input-size 0 {FX}/face.png -o {OUT}/infer
+infer/seed-negative|--seed|infer --aligned --init random --seed=-1 {FX}/face.png -o {OUT}/infer
+infer/unknown-network|nonsense|infer --aligned --init random --network nonsense {FX}/face.png -o {OUT}/infer
+infer/unknown-renderer|nonsense|infer --aligned --init random --renderer nonsense {FX}/face.png -o {OUT}/infer
+infer/model-not-weights|raw.safetensors|infer --aligned --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/infer
+infer/model-truncated|truncated.safetensors|infer --aligned --model {FX}/truncated.safetensors {FX}/face.png -o {OUT}/infer
+infer/image-nan-exr|nan.exr|infer --aligned --init random --input-size 32 --width 8 {FX}/nan.exr -o {OUT}/infer
+infer/output-is-a-file|out.png|infer --aligned --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/out.png
+infer/contact-sheet-missing-folder|no_such_folder|infer --aligned --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --contact-sheet {OUT}/no_such_folder/sheet.png
+infer/raw-output-missing-folder|no_such_folder|infer --aligned --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --raw-output {OUT}/no_such_folder/raw.safetensors
+infer/out-and-output|--output|infer --aligned --init random {FX}/face.png -o {OUT}/infer --out {OUT}/infer
 render/no-output|-o|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/light.json
 render/output-jpeg|out.jpg|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.jpg
 render/output-missing-folder|no_such_folder|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/no_such_folder/out.png
@@ -325,13 +325,13 @@ full_disk_cases() {
   local seeded=$disk/out
   # Good outputs of a first run, then a full disk, then the same commands again.
   mkdir -p "$seeded"
-  "$FACETOOL" infer --init random --input-size 32 --width 8 "$FX/face.png" -o "$seeded/infer" \
+  "$FACETOOL" infer --aligned --init random --input-size 32 --width 8 "$FX/face.png" -o "$seeded/infer" \
     --raw-output "$seeded/raw.safetensors" > /dev/null 2>&1
   cp "$FX/face.png" "$seeded/out.png"; cp "$FX/face.png" "$seeded/out_shading.png"
   cp "$FX/face.png" "$seeded/preview.png"; cp "$FX/light.json" "$seeded/light.json"
   cp "$FX/light_sfsnet.txt" "$seeded/light.txt"
   fill_up "$disk"
-  local common="--init random --input-size 32 --width 8"
+  local common="--aligned --init random --input-size 32 --width 8"
   # shellcheck disable=SC2086
   run_case_in disk/infer-again "No space left" "$seeded" infer $common --seed 7 "$FX/face.png" -o "$seeded/infer"
   run_case_in disk/render "No space left" "$seeded" render --albedo "$FX/albedo.exr" --normal "$FX/normal.exr" --light "$FX/light.json" -o "$seeded/out.png"
