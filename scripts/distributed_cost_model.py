@@ -23,8 +23,8 @@ def main():
     p.add_argument("--compute", type=float, nargs="+", default=[0.1, 8.0],
                    help="seconds of computation per step on one rank (its rows of the batch)")
     p.add_argument("--latency-us", type=float, default=5.0, help="per-message latency")
-    p.add_argument("--bn-layers", type=int, default=30, help="batch-norm layers in the network")
-    p.add_argument("--bn-channels", type=int, default=256, help="channels of a typical one")
+    p.add_argument("--bn-layers", type=int, default=29, help="batch-norm layers (paper_network: 2 + 2 x 11 + 2 x 2 + 1)")
+    p.add_argument("--bn-channels", type=int, default=128, help="channels of each (the width)")
     a = p.parse_args()
     networks = [("1 Gb/s", 1e9 / 8), ("10 Gb/s", 10e9 / 8), ("100 Gb/s", 100e9 / 8),
                 ("400 Gb/s", 400e9 / 8)]

@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
+  libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
 )
 

@@ -59,7 +59,9 @@ class MpiCommunicator final : public Communicator {
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::exit(1);
   }
-  std::string describe() const override { return "MPI, " + std::to_string(size_) + " ranks"; }
+  std::string describe() const override {
+    return "MPI, " + std::to_string(size_) + (size_ == 1 ? " rank" : " ranks");
+  }
 
  private:
   int rank_ = 0, size_ = 1;

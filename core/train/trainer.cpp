@@ -93,7 +93,8 @@ constexpr int64_t kBucketFloats = int64_t{1} << 20;
 
 void Trainer::set_communicator(Communicator& comm) {
   comm_ = &comm;
-  if (comm.size() > 1)
+  synced_batch_norm_ = comm.size() > 1;
+  if (synced_batch_norm_)
     ag::set_batch_norm_statistics_sum([c = &comm](std::vector<double>& v) { c->allreduce_sum(v); });
   else
     ag::set_batch_norm_statistics_sum({});
@@ -116,8 +117,10 @@ void Trainer::allreduce_gradients() {
     members.clear();
   };
   for (const auto& [name, p] : params) {
-    check(p.has_grad(), "data-parallel training: parameter '", name, "' got no gradient; every ",
-          "parameter must take part in the loss on every rank");
+    (void)name;
+    // Every rank builds the same graph, so a parameter no term reaches (e.g. the light branch
+    // without a light term) lacks a gradient on all of them alike.
+    if (!p.has_grad()) continue;
     const std::vector<float> g = p.grad().to_host();
     if (!bucket.empty() && static_cast<int64_t>(bucket.size() + g.size()) > kBucketFloats) flush();
     bucket.insert(bucket.end(), g.begin(), g.end());
@@ -161,7 +164,7 @@ Trainer::Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<Networ
 }
 
 Trainer::~Trainer() {
-  if (comm_->size() > 1) ag::set_batch_norm_statistics_sum({});
+  if (synced_batch_norm_) ag::set_batch_norm_statistics_sum({});
 }
 
 void Trainer::restore(const std::string& checkpoint_path) {

@@ -85,6 +85,7 @@ class Trainer {
   int64_t step_ = 0;
   SingleProcessCommunicator single_;
   Communicator* comm_ = &single_;
+  bool synced_batch_norm_ = false;  // this trainer installed the batch-norm statistics sum
   void allreduce_gradients();
 };
 
