@@ -116,8 +116,8 @@ void Trainer::allreduce_gradients() {
     bucket.clear();
     members.clear();
   };
-  for (const auto& [name, p] : params) {
-    (void)name;
+  for (const auto& entry : params) {
+    const ag::Variable& p = entry.second;
     // Every rank builds the same graph, so a parameter no term reaches (e.g. the light branch
     // without a light term) lacks a gradient on all of them alike.
     if (!p.has_grad()) continue;

@@ -201,11 +201,10 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     return exit_code;
   }
   save_all();
-  if (!writer) {
-  } else if (exit_code != 0)
+  if (writer && exit_code != 0)
     std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
               << checkpoint << " (continue with --resume)\n";
-  else
+  else if (writer)
     std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << weights << "\n";
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
