@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # facetool eval --shard i/n on three shards, merged with eval --merge, equals one unsharded eval;
+# infer and pseudo-label --shard 0/2 and 1/2 into one folder write what one unsharded run writes;
 # with MPIRUN, `mpirun -np 2 facetool train` logs the one-process run's losses (1e-5 relative).
 # Usage: eval_shards_test.sh FACETOOL SHARED_DIR [MPIRUN]. Exits 77 (skip) without ../shared's
 # face model.
@@ -51,6 +52,23 @@ PY
 if "$facetool" eval --merge shard0 shard0 -o twice 2>err.txt; then echo "FAIL: merged twice"; exit 1; fi
 grep -q "is in two shards" err.txt || { cat err.txt; exit 1; }
 echo "merged shards equal the unsharded eval"
+# infer and pseudo-label: two shards into one folder equal one run (same names, same bytes);
+# plain crops (infer's input.png) are named by their index in the whole list.
+"$facetool" infer --model $model data/sample_*.exr -o inf --no-contact-sheet >/dev/null 2>&1
+for i in 0 1; do
+  "$facetool" infer --model $model data/sample_*.exr -o inf2 --no-contact-sheet --shard $i/2 >/dev/null 2>&1
+done
+diff -r inf inf2 || { echo "FAIL: sharded infer differs"; exit 1; }
+for inputs in "data/sample_*.exr" "inf/*/input.png"; do
+  rm -rf pl pl2
+  "$facetool" pseudo-label --model $model $inputs -o pl >/dev/null 2>&1
+  for i in 0 1; do
+    "$facetool" pseudo-label --model $model $inputs -o pl2 --shard $i/2 >/dev/null 2>&1
+  done
+  [ "$(ls pl | wc -l)" -eq 10 ] || { echo "FAIL: pseudo-label wrote $(ls pl | wc -l) files"; exit 1; }
+  diff -r pl pl2 || { echo "FAIL: sharded pseudo-label of $inputs differs"; exit 1; }
+done
+echo "sharded infer and pseudo-label equal unsharded runs"
 [ -n "$mpirun" ] || { echo "no mpirun: the 2-rank command-line run is not checked"; exit 0; }
 "$mpirun" --allow-run-as-root --oversubscribe -np 2 "$facetool" train --config smoke.json \
   --out run2 2>/dev/null

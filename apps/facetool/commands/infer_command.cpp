@@ -8,6 +8,7 @@
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/infer_outputs.h"
+#include "core/synth/synth_runner.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
 #include "core/inference/decomposer.h"
@@ -57,6 +58,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
       ("output,o", po::value<std::string>(), "output folder (one sub-folder per image)")
       ("batch", po::value<int>()->default_value(8), "images per network pass")
+      ("shard", po::value<std::string>()->default_value("0/1")->value_name("i/n"),
+       "decompose only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
       ("contact-sheet", po::value<std::string>(), "contact sheet PNG (default: <output>/contact_sheet.png)")
@@ -91,9 +94,24 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     throw UsageError("infer: --init takes only 'random'");
   const int batch = values["batch"].as<int>();
   if (batch < 1) throw UsageError("infer: --batch must be at least 1");
-  const std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
+  std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)
     check(fs::is_regular_file(f), "input image '", f, "' does not exist or is not a file");
+  // Output names come from the whole list, so shards write what one run writes.
+  std::vector<std::string> stems = unique_stems(files);
+  int shard_index = 0, shard_count = 1;
+  parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
+  if (shard_count > 1) {
+    std::vector<std::string> mine, my_stems;
+    for (size_t k = shard_index; k < files.size(); k += shard_count) {
+      mine.push_back(files[k]);
+      my_stems.push_back(stems[k]);
+    }
+    check(!mine.empty(), "infer: shard ", values["shard"].as<std::string>(), " holds no inputs ",
+          "(fewer inputs than shards)");
+    files = std::move(mine);
+    stems = std::move(my_stems);
+  }
   const std::string out_dir = values["output"].as<std::string>();
 
   Backend& backend = get_backend(context.backend);
@@ -120,7 +138,6 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
 
-  const std::vector<std::string> stems = unique_stems(files);
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");
