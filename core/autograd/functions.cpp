@@ -1,6 +1,7 @@
 // Differentiable functions: forward through core/ops, backward recorded as closures.
 #include "core/autograd/functions.h"
 
+#include "core/autograd/synced_batch_norm.h"
 #include "core/ops/ops.h"
 #include "core/util/error.h"
 
@@ -121,6 +122,9 @@ Variable linear(const Variable& x, const Variable& w, const Variable& bias) {
 Variable batch_norm(const Variable& x, const Variable& gamma, const Variable& beta,
                     const Tensor& running_mean, const Tensor& running_var,
                     const BatchNormParams& p) {
+  if (p.training && batch_norm_statistics_sum())
+    return synced_batch_norm(x, gamma, beta, running_mean, running_var, p,
+                             batch_norm_statistics_sum());
   Tensor xv = x.value(), gv = gamma.value();
   ops::BatchNormSaved saved;
   Tensor y = ops::batch_norm(xv, gv, beta.value(), running_mean, running_var, p, &saved);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/autograd/functions.h"
+#include "core/autograd/synced_batch_norm.h"
 
 namespace facetool {
 
@@ -43,7 +44,90 @@ DatasetReaderOptions reader_options(const TrainingConfig& c, const DataSource& s
   return o;
 }
 
+// Rows [begin, end) of a tensor whose first dimension is the batch.
+Tensor rows_of(const Tensor& t, int64_t begin, int64_t end) {
+  if (!t.defined()) return t;
+  const Shape& s = t.shape();
+  const int64_t per_row = s.numel() / s[0];
+  const std::vector<float> all = t.to_host();
+  std::vector<float> part(all.begin() + begin * per_row, all.begin() + end * per_row);
+  const int64_t n = end - begin;
+  Shape sliced = s.rank() == 1   ? Shape{n}
+                 : s.rank() == 2 ? Shape{n, s[1]}
+                 : s.rank() == 3 ? Shape{n, s[1], s[2]}
+                                 : Shape{n, s[1], s[2], s[3]};
+  return Tensor::from_host(t.backend(), sliced, part);
+}
+
+SyntheticBatch rank_slice(const SyntheticBatch& b, int rank, int size) {
+  const auto [begin, end] = rank_rows(b.image.shape().n(), rank, size);
+  SyntheticBatch out;
+  out.image = rows_of(b.image, begin, end);
+  out.albedo = rows_of(b.albedo, begin, end);
+  out.normal = rows_of(b.normal, begin, end);
+  out.mask = rows_of(b.mask, begin, end);
+  out.visibility = rows_of(b.visibility, begin, end);
+  out.light = rows_of(b.light, begin, end);
+  out.files.assign(b.files.begin() + begin, b.files.begin() + end);
+  out.epoch = b.epoch;
+  return out;
+}
+
+// A term of the light alone is a mean over images; every other term is a masked mean.
+bool plugin_term_is_per_image(const LossPlugin& plugin, const std::string& name) {
+  for (const LossTermInfo& info : plugin.terms())
+    if (info.name == name) return info.needs == kNeedsLight;
+  return false;
+}
+
+double mask_total(const Tensor& mask) {
+  double total = 0.0;
+  for (float v : mask.to_host()) total += v;
+  return total;
+}
+
+// Gradients travel in buckets of this many floats (4 MiB): few calls, bounded host memory.
+constexpr int64_t kBucketFloats = int64_t{1} << 20;
+
 }  // namespace
+
+void Trainer::set_communicator(Communicator& comm) {
+  comm_ = &comm;
+  synced_batch_norm_ = comm.size() > 1;
+  if (synced_batch_norm_)
+    ag::set_batch_norm_statistics_sum([c = &comm](std::vector<double>& v) { c->allreduce_sum(v); });
+  else
+    ag::set_batch_norm_statistics_sum({});
+}
+
+void Trainer::allreduce_gradients() {
+  std::vector<std::pair<std::string, ag::Variable>> params = network_->parameters();
+  std::vector<float> bucket;
+  std::vector<const ag::Variable*> members;
+  auto flush = [&] {
+    if (members.empty()) return;
+    comm_->allreduce_sum(bucket.data(), static_cast<int64_t>(bucket.size()));
+    size_t at = 0;
+    for (const ag::Variable* p : members) {
+      const int64_t n = p->grad().numel();
+      p->grad().copy_from_host(std::vector<float>(bucket.begin() + at, bucket.begin() + at + n));
+      at += n;
+    }
+    bucket.clear();
+    members.clear();
+  };
+  for (const auto& entry : params) {
+    const ag::Variable& p = entry.second;
+    // Every rank builds the same graph, so a parameter no term reaches (e.g. the light branch
+    // without a light term) lacks a gradient on all of them alike.
+    if (!p.has_grad()) continue;
+    const std::vector<float> g = p.grad().to_host();
+    if (!bucket.empty() && static_cast<int64_t>(bucket.size() + g.size()) > kBucketFloats) flush();
+    bucket.insert(bucket.end(), g.begin(), g.end());
+    members.push_back(&p);
+  }
+  flush();
+}
 
 Trainer::Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<NetworkPlugin> network,
                  std::shared_ptr<RendererPlugin> renderer,
@@ -79,7 +163,9 @@ Trainer::Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<Networ
   optimizer_ = std::make_unique<AdamOptimizer>(network_->parameters(), p);
 }
 
-Trainer::~Trainer() = default;
+Trainer::~Trainer() {
+  if (synced_batch_norm_) ag::set_batch_norm_statistics_sum({});
+}
 
 void Trainer::restore(const std::string& checkpoint_path) {
   const CheckpointState s = read_checkpoint_state(checkpoint_path);
@@ -121,14 +207,34 @@ StepRecord Trainer::step() {
             source->reader->height(), " samples but the network takes ", config_.input_size, "x",
             config_.input_size, "; set network.input_size in '", config_.path, "'");
     }
-    const SyntheticBatch batch = source->reader->next();
+    const bool parallel = comm_->size() > 1;
+    SyntheticBatch batch = source->reader->next();
+    const int64_t global_images = batch.image.shape().n();
+    if (parallel) batch = rank_slice(batch, comm_->rank(), comm_->size());
     record.seconds_data += std::chrono::duration<double>(Clock::now() - wait).count();
-    record.images += batch.image.shape().n();
+    record.images += global_images;
+    // This rank's share of each normaliser: masked pixels (masked MSE) and images (light).
+    double pixel_share = 1.0, image_share = 1.0;
+    if (parallel) {
+      std::vector<double> counts{mask_total(batch.mask), double(batch.image.shape().n())};
+      const std::vector<double> local = counts;
+      comm_->allreduce_sum(counts);
+      pixel_share = counts[0] > 0 ? local[0] / counts[0] : 0.0;
+      image_share = local[1] / counts[1];
+    }
     const NetworkOutputs out = network_->forward(ag::Variable(batch.image), true);
     const LossTargets targets = targets_of(batch, *source->config);
+    std::vector<ag::Variable> values;
+    std::vector<double> shares, totals;
     for (const auto& [term, plugin] : source->terms) {
-      const ag::Variable value = plugin->evaluate(term->name, out, targets, *renderer_);
-      const double v = value.value().to_host()[0];
+      values.push_back(plugin->evaluate(term->name, out, targets, *renderer_));
+      shares.push_back(plugin_term_is_per_image(*plugin, term->name) ? image_share : pixel_share);
+      totals.push_back(shares.back() * values.back().value().to_host()[0]);
+    }
+    if (parallel) comm_->allreduce_sum(totals);  // every rank sees the global batch's values
+    for (size_t i = 0; i < source->terms.size(); ++i) {
+      const WeightedTerm* term = source->terms[i].first;
+      const double v = totals[i];
       const std::string label = source->config->name + "/" + term->name;
       if (!std::isfinite(v))
         throw TrainingDiverged("training diverged at step " + std::to_string(record.step) +
@@ -137,11 +243,17 @@ StepRecord Trainer::step() {
       record.terms.emplace_back(label, v);
       record.total += term->weight * v;
       if (term->weight == 0.0) continue;
-      const ag::Variable weighted = ag::scale(value, static_cast<float>(term->weight));
+      const ag::Variable weighted =
+          ag::scale(values[i], static_cast<float>(term->weight * (parallel ? shares[i] : 1.0)));
       total = total.defined() ? ag::add(total, weighted) : weighted;
     }
   }
   if (total.defined()) total.backward();
+  if (comm_->size() > 1) {
+    const auto reduce = Clock::now();
+    allreduce_gradients();
+    record.seconds_allreduce = std::chrono::duration<double>(Clock::now() - reduce).count();
+  }
   optimizer_->step();
   ++step_;
   record.seconds_total = std::chrono::duration<double>(Clock::now() - start).count();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/data/dataset_reader.h"
+#include "core/distributed/communicator.h"
 #include "core/plugin/loss_plugin.h"
 #include "core/plugin/network_plugin.h"
 #include "core/plugin/renderer_plugin.h"
@@ -31,6 +32,7 @@ struct StepRecord {
   std::vector<std::pair<std::string, double>> terms;  // "source/term" -> unweighted value
   int64_t images = 0;
   double seconds_data = 0, seconds_total = 0;  // waiting for batches / the whole step
+  double seconds_allreduce = 0;  // summing gradients over the ranks (0 in one process)
 };
 
 struct ValidationRecord {
@@ -59,6 +61,14 @@ class Trainer {
   // Mean normal angular error over the validation part of the first labelled source.
   ValidationRecord validate();
 
+  // Data-parallel training (docs/distributed.md): every rank reads the global batch of each
+  // source (the configuration's `batch`) and trains on its rows (rank_rows); each term is
+  // weighted by this rank's share of the term's normaliser (masked pixels, or images for terms
+  // of the light alone), gradients are summed over the ranks in buckets and batch norm uses the
+  // global batch's statistics, so K ranks take the step one process takes on the whole batch.
+  // Call before the first step; `comm` must outlive the trainer.
+  void set_communicator(Communicator& comm);
+
   int64_t steps_done() const { return step_; }
   const TrainingConfig& config() const { return config_; }
   NetworkPlugin& network() { return *network_; }
@@ -73,6 +83,10 @@ class Trainer {
   std::vector<std::unique_ptr<Source>> sources_;
   std::unique_ptr<AdamOptimizer> optimizer_;
   int64_t step_ = 0;
+  SingleProcessCommunicator single_;
+  Communicator* comm_ = &single_;
+  bool synced_batch_norm_ = false;  // this trainer installed the batch-norm statistics sum
+  void allreduce_gradients();
 };
 
 }  // namespace facetool

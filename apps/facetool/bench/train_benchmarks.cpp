@@ -8,10 +8,12 @@
 #include <filesystem>
 #include <ostream>
 #include <random>
+#include <sstream>
 #include <unistd.h>
 
 #include "core/autograd/functions.h"
 #include "core/synth/synth_sample.h"
+#include "core/distributed/communicator.h"
 #include "core/train/trainer.h"
 
 namespace facetool {
@@ -99,24 +101,31 @@ void run_train_benchmarks(const std::function<std::shared_ptr<NetworkPlugin>()>&
     }
   } cleanup{dir};
   write_bench_samples(dir.string(), 2 * o.batch, o.input_size);
+  // Under mpirun the ranks split each batch of o.batch images (docs/distributed.md); rank 0
+  // prints, the others stay silent.
+  const std::unique_ptr<Communicator> comm = make_communicator();
+  std::ostringstream silent;
+  std::ostream& print = comm->rank() == 0 ? out : silent;
 
   char line[256];
-  out << "full stage-1 step (batch " << o.batch << ", " << o.input_size << "x" << o.input_size
-      << ", 8 terms, Adam) on " << backend.name() << "\n";
-  std::snprintf(line, sizeof line, "%6s %10s %10s %14s %12s %12s\n", "width", "step ms",
-                "images/s", "losses+render", "data wait", "network+Adam");
-  out << line;
+  print << "full stage-1 step (batch " << o.batch << ", " << o.input_size << "x" << o.input_size
+        << ", 8 terms, Adam) on " << backend.name() << ", " << comm->describe() << "\n";
+  std::snprintf(line, sizeof line, "%6s %10s %10s %14s %12s %12s %12s\n", "width", "step ms",
+                "images/s", "losses+render", "data wait", "network+Adam", "allreduce");
+  print << line;
   for (int width : o.widths) {
     const TrainingConfig config = stage1_config(dir.string(), width, o.input_size, o.batch);
     Trainer trainer(backend, config, make_network(), renderer, {losses});
+    trainer.set_communicator(*comm);
     trainer.step();  // warm-up: kernels compiled, buffers cached, reader primed
-    std::vector<double> step_s, wait_s;
+    std::vector<double> step_s, wait_s, reduce_s;
     for (int r = 0; r < o.repeats; ++r) {
       backend.synchronize();
       const StepRecord rec = trainer.step();
       backend.synchronize();
       step_s.push_back(rec.seconds_total);
       wait_s.push_back(rec.seconds_data);
+      reduce_s.push_back(rec.seconds_allreduce);
     }
     // The eight terms alone on outputs of the same shapes: forward, backward to the outputs.
     const NetworkOutputs shapes = trainer.network().forward(
@@ -147,11 +156,13 @@ void run_train_benchmarks(const std::function<std::shared_ptr<NetworkPlugin>()>&
         loss_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     const double step = median(step_s), wait = median(wait_s), loss = median(loss_s);
-    std::snprintf(line, sizeof line, "%6d %10.1f %10.1f %8.1f (%3.0f%%) %6.1f (%2.0f%%) %7.1f (%2.0f%%)\n",
+    const double reduce = median(reduce_s);
+    std::snprintf(line, sizeof line,
+                  "%6d %10.1f %10.1f %8.1f (%3.0f%%) %6.1f (%2.0f%%) %7.1f (%2.0f%%) %7.1f (%2.0f%%)\n",
                   width, step * 1e3, o.batch / step, loss * 1e3, 100.0 * loss / step, wait * 1e3,
                   100.0 * wait / step, (step - loss - wait) * 1e3,
-                  100.0 * (step - loss - wait) / step);
-    out << line << std::flush;
+                  100.0 * (step - loss - wait) / step, reduce * 1e3, 100.0 * reduce / step);
+    print << line << std::flush;
   }
 }
 

@@ -17,6 +17,7 @@
 #include "core/io/image_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/gbuffer.h"
+#include "core/synth/synth_runner.h"
 #include "core/train/eval_metrics.h"
 #include "core/util/progress_bar.h"
 
@@ -31,12 +32,20 @@ struct ImageResult {
   bool truth = false;
   double normal_mean = NAN, albedo_mse = NAN, visibility_mse = NAN, light = NAN;
   double psnr = NAN, ssim = NAN;
+  // The normal angles' sufficient statistics, so shards' results merge into the summary.
+  int64_t pixels = 0, under20 = 0, under25 = 0, under30 = 0;
+  double angle_sum = 0, angle_sum_sq = 0;
 };
+
+constexpr const char* kCsvHeader =
+    "file,ground_truth,normal_error_mean_deg,albedo_mse,visibility_mse,light_error,psnr_db,ssim,"
+    "normal_pixels,normal_angle_sum_deg,normal_angle_sum_sq_deg,under_20_pixels,under_25_pixels,"
+    "under_30_pixels";
 
 std::string number(double v) {
   if (std::isnan(v)) return "";
   std::ostringstream s;
-  s.precision(6);
+  s.precision(17);  // exact round trip: merged shards give the unsharded summary
   s << v;
   return s.str();
 }
@@ -67,21 +76,167 @@ void add_sheet_row(RgbImage& sheet, int row, int size, const float* input, const
       }
 }
 
+// per_image.csv, summary.json and summary.md of `results` (one run, or merged shards).
+std::string write_outputs(const std::string& out_dir, const std::string& model,
+                          const std::string& data, const std::vector<ImageResult>& results,
+                          const AngularSummary& a) {
+  std::ostringstream csv;
+  csv << kCsvHeader << "\n";
+  for (const ImageResult& r : results)
+    csv << r.file << "," << (r.truth ? 1 : 0) << "," << number(r.normal_mean) << ","
+        << number(r.albedo_mse) << "," << number(r.visibility_mse) << "," << number(r.light)
+        << "," << number(r.psnr) << "," << number(r.ssim) << "," << r.pixels << ","
+        << number(r.angle_sum) << "," << number(r.angle_sum_sq) << "," << r.under20 << ","
+        << r.under25 << "," << r.under30 << "\n";
+  const std::string csv_text = csv.str();
+  write_file_atomically((fs::path(out_dir) / "per_image.csv").string(), csv_text.data(), csv_text.size());
+
+  auto json_number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json summary = {
+      {"model", model}, {"data", data}, {"images", results.size()},
+      {"images_with_ground_truth", std::count_if(results.begin(), results.end(), [](const ImageResult& r) { return r.truth; })},
+      {"psnr_db_mean", json_number(mean_of(results, &ImageResult::psnr))},
+      {"ssim_mean", json_number(mean_of(results, &ImageResult::ssim))}};
+  if (a.pixels > 0) {
+    summary["normal_error"] = {{"mean_deg", a.mean}, {"std_deg", a.std}, {"under_20_percent", a.under20},
+                               {"under_25_percent", a.under25}, {"under_30_percent", a.under30},
+                               {"pixels", a.pixels}};
+    summary["albedo_mse_mean"] = json_number(mean_of(results, &ImageResult::albedo_mse));
+    summary["visibility_mse_mean"] = json_number(mean_of(results, &ImageResult::visibility_mse));
+    summary["light_error_mean"] = json_number(mean_of(results, &ImageResult::light));
+  }
+  const std::string json_text = summary.dump(2) + "\n";
+  write_file_atomically((fs::path(out_dir) / "summary.json").string(), json_text.data(), json_text.size());
+
+  std::ostringstream md;
+  md.setf(std::ios::fixed);
+  md.precision(2);
+  if (a.pixels > 0) {
+    md << "| method | mean +- std (deg) | < 20 deg | < 25 deg | < 30 deg |\n| --- | --- | --- | --- | --- |\n"
+       << "| facetool (" << fs::path(model).filename().string() << ") | " << a.mean << " +- " << a.std
+       << " | " << a.under20 << "% | " << a.under25 << "% | " << a.under30 << "% |\n\n";
+  }
+  md << "| images | albedo MSE | visibility MSE | light E_L | PSNR (dB) | SSIM |\n| --- | --- | --- | --- | --- | --- |\n"
+     << "| " << results.size() << " | " << number(mean_of(results, &ImageResult::albedo_mse)) << " | "
+     << number(mean_of(results, &ImageResult::visibility_mse)) << " | "
+     << number(mean_of(results, &ImageResult::light)) << " | "
+     << number(mean_of(results, &ImageResult::psnr)) << " | "
+     << number(mean_of(results, &ImageResult::ssim)) << " |\n";
+  const std::string md_text = md.str();
+  write_file_atomically((fs::path(out_dir) / "summary.md").string(), md_text.data(), md_text.size());
+  return md_text;
+}
+
+// Splits one CSV line at commas (the file names have none: sample_XXXXXXXX.exr).
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) out.push_back(field);
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+double csv_number(const std::string& text) { return text.empty() ? NAN : std::stod(text); }
+
+// `facetool eval --merge`: the shards' per-image rows, in file order, and their summary.
+int merge_shards(const std::vector<std::string>& shards, const std::string& out_dir) {
+  std::vector<ImageResult> results;
+  std::string model, data;
+  for (const std::string& dir : shards) {
+    const std::string path = (fs::path(dir) / "per_image.csv").string();
+    std::ifstream in(path);
+    check(in.good(), "eval --merge: cannot read '", path, "'; run eval --shard i/n -o ", dir,
+          " first");
+    std::string line;
+    std::getline(in, line);
+    check(line == kCsvHeader, "eval --merge: '", path, "' is not a per_image.csv of this facetool "
+          "version (its header differs); rerun that shard");
+    for (int row = 2; std::getline(in, line); ++row) {
+      const std::vector<std::string> f = split_csv(line);
+      check(f.size() == 14, "eval --merge: '", path, "' line ", row, " has ", f.size(),
+            " fields, expected 14");
+      ImageResult r;
+      try {
+        r.file = f[0];
+        r.truth = f[1] == "1";
+        r.normal_mean = csv_number(f[2]);
+        r.albedo_mse = csv_number(f[3]);
+        r.visibility_mse = csv_number(f[4]);
+        r.light = csv_number(f[5]);
+        r.psnr = csv_number(f[6]);
+        r.ssim = csv_number(f[7]);
+        r.pixels = std::stoll(f[8]);
+        r.angle_sum = std::stod(f[9]);
+        r.angle_sum_sq = std::stod(f[10]);
+        r.under20 = std::stoll(f[11]);
+        r.under25 = std::stoll(f[12]);
+        r.under30 = std::stoll(f[13]);
+      } catch (const std::exception&) {
+        throw Error("eval --merge: '" + path + "' line " + std::to_string(row) +
+                    " holds a field that is not a number");
+      }
+      results.push_back(r);
+    }
+    std::ifstream summary_in((fs::path(dir) / "summary.json").string());
+    if (summary_in.good() && model.empty()) {
+      const nlohmann::json j = nlohmann::json::parse(summary_in, nullptr, false);
+      if (j.is_object() && j.contains("model") && j["model"].is_string()) model = j["model"];
+      if (j.is_object() && j.contains("data") && j["data"].is_string()) data = j["data"];
+    }
+  }
+  std::sort(results.begin(), results.end(),
+            [](const ImageResult& a, const ImageResult& b) { return a.file < b.file; });
+  for (size_t i = 1; i < results.size(); ++i)
+    check(results[i].file != results[i - 1].file, "eval --merge: '", results[i].file,
+          "' is in two shards; merge each shard's output once");
+  check(!results.empty(), "eval --merge: the shards hold no images");
+  AngularSummary a;
+  double sum = 0, sq = 0;
+  for (const ImageResult& r : results) {
+    a.pixels += r.pixels;
+    sum += r.angle_sum;
+    sq += r.angle_sum_sq;
+    a.under20 += static_cast<double>(r.under20);
+    a.under25 += static_cast<double>(r.under25);
+    a.under30 += static_cast<double>(r.under30);
+  }
+  if (a.pixels > 0) {
+    const double n = static_cast<double>(a.pixels);
+    a.mean = sum / n;
+    a.std = std::sqrt(std::max(0.0, sq / n - a.mean * a.mean));
+    a.under20 *= 100.0 / n;
+    a.under25 *= 100.0 / n;
+    a.under30 *= 100.0 / n;
+  }
+  fs::create_directories(out_dir);
+  std::cout << write_outputs(out_dir, model, data, results, a);
+  std::cerr << "merged " << shards.size() << " shards, " << results.size() << " images\n";
+  return 0;
+}
+
 int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
-  std::string model, data, out_dir;
+  std::string model, data, out_dir, shard = "0/1";
+  std::vector<std::string> merge;
   int batch = 8;
   options.add_options()
-      ("model", po::value(&model)->value_name("WEIGHTS")->required(), "trained weights")
-      ("data", po::value(&data)->value_name("DIR")->required(),
+      ("model", po::value(&model)->value_name("WEIGHTS"), "trained weights")
+      ("data", po::value(&data)->value_name("DIR"),
        "folder of sample_*.exr (synthetic: with ground truth; real: reconstruction only)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(),
        "writes per_image.csv, summary.json, summary.md")
       ("batch", po::value(&batch)->default_value(8), "images per network run")
+      ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
+       "evaluate only the samples i, i+n, i+2n, ... of the sorted list (Slurm array jobs)")
+      ("merge", po::value(&merge)->value_name("DIR")->multitoken(),
+       "merge these shards' outputs (eval --shard i/n -o DIR) into -o: per_image.csv and the "
+       "summary, as one unsharded run writes them")
       ("contact-sheet", "also write contact_sheet.png: input, reconstruction, normal, true normal");
   po::variables_map values;
   if (!parse_command_options(
-          "eval --model WEIGHTS --data DIR -o OUT [--contact-sheet]",
+          "eval --model WEIGHTS --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
+          "       facetool eval --merge SHARD_DIR... -o OUT",
           "Evaluates a trained network. On synthetic samples (ground truth): the paper's Table 1 "
           "(normal angular\nerror mean +- std, % of pixels under 20, 25, 30 degrees), albedo and "
           "visibility MSE, light error E_L,\nand reconstruction PSNR and SSIM; on real samples "
@@ -90,6 +245,14 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
           options, {}, args, values))
     return 0;
   check_option_ranges(values, {{"batch", 1, 1024}});
+  if (!merge.empty()) {
+    if (!model.empty() || !data.empty() || values.count("contact-sheet"))
+      throw UsageError("eval: --merge takes only shard folders and -o");
+    return merge_shards(merge, out_dir);
+  }
+  if (model.empty() || data.empty()) throw UsageError("eval: --model and --data are required");
+  int shard_index = 0, shard_count = 1;
+  parse_shard(shard, shard_index, shard_count);
   if (batch < 1) throw UsageError("eval: --batch must be at least 1");
   check(fs::is_directory(data), "eval: data folder '", data, "' does not exist");
   std::vector<std::string> files;
@@ -100,6 +263,13 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   }
   std::sort(files.begin(), files.end());
   check(!files.empty(), "eval: '", data, "' holds no sample_*.exr files");
+  if (shard_count > 1) {
+    std::vector<std::string> mine;
+    for (size_t i = shard_index; i < files.size(); i += shard_count) mine.push_back(files[i]);
+    files = std::move(mine);
+    check(!files.empty(), "eval: shard ", shard, " of '", data, "' holds no samples (only ",
+          "fewer samples than shards)");
+  }
 
   Backend& backend = get_backend(context.backend);
   auto network = load_trained_network(context, backend, model);
@@ -146,6 +316,14 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
         normal_angles_deg(normal, s.normal.data(), mask.data(), plane, own);
         r.normal_mean = summarize_angles(own).mean;
         angles.insert(angles.end(), own.begin(), own.end());
+        for (double angle : own) {
+          ++r.pixels;
+          r.angle_sum += angle;
+          r.angle_sum_sq += angle * angle;
+          r.under20 += angle < 20.0;
+          r.under25 += angle < 25.0;
+          r.under30 += angle < 30.0;
+        }
         r.albedo_mse = masked_mse(d.albedo.data() + i * 3 * plane, s.albedo.data(), mask.data(), 3, plane);
         r.visibility_mse =
             masked_mse(d.visibility.data() + i * 9 * plane, s.visibility.data(), mask.data(), 9, plane);
@@ -160,49 +338,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   }
   progress.finish();
 
-  std::ostringstream csv;
-  csv << "file,ground_truth,normal_error_mean_deg,albedo_mse,visibility_mse,light_error,psnr_db,ssim\n";
-  for (const ImageResult& r : results)
-    csv << r.file << "," << (r.truth ? 1 : 0) << "," << number(r.normal_mean) << ","
-        << number(r.albedo_mse) << "," << number(r.visibility_mse) << "," << number(r.light)
-        << "," << number(r.psnr) << "," << number(r.ssim) << "\n";
-  const std::string csv_text = csv.str();
-  write_file_atomically((fs::path(out_dir) / "per_image.csv").string(), csv_text.data(), csv_text.size());
-
-  const AngularSummary a = summarize_angles(angles);
-  auto json_number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  nlohmann::json summary = {
-      {"model", model}, {"data", data}, {"images", results.size()},
-      {"images_with_ground_truth", std::count_if(results.begin(), results.end(), [](const ImageResult& r) { return r.truth; })},
-      {"psnr_db_mean", json_number(mean_of(results, &ImageResult::psnr))},
-      {"ssim_mean", json_number(mean_of(results, &ImageResult::ssim))}};
-  if (a.pixels > 0) {
-    summary["normal_error"] = {{"mean_deg", a.mean}, {"std_deg", a.std}, {"under_20_percent", a.under20},
-                               {"under_25_percent", a.under25}, {"under_30_percent", a.under30},
-                               {"pixels", a.pixels}};
-    summary["albedo_mse_mean"] = json_number(mean_of(results, &ImageResult::albedo_mse));
-    summary["visibility_mse_mean"] = json_number(mean_of(results, &ImageResult::visibility_mse));
-    summary["light_error_mean"] = json_number(mean_of(results, &ImageResult::light));
-  }
-  const std::string json_text = summary.dump(2) + "\n";
-  write_file_atomically((fs::path(out_dir) / "summary.json").string(), json_text.data(), json_text.size());
-
-  std::ostringstream md;
-  md.setf(std::ios::fixed);
-  md.precision(2);
-  if (a.pixels > 0) {
-    md << "| method | mean +- std (deg) | < 20 deg | < 25 deg | < 30 deg |\n| --- | --- | --- | --- | --- |\n"
-       << "| facetool (" << fs::path(model).filename().string() << ") | " << a.mean << " +- " << a.std
-       << " | " << a.under20 << "% | " << a.under25 << "% | " << a.under30 << "% |\n\n";
-  }
-  md << "| images | albedo MSE | visibility MSE | light E_L | PSNR (dB) | SSIM |\n| --- | --- | --- | --- | --- | --- |\n"
-     << "| " << results.size() << " | " << number(mean_of(results, &ImageResult::albedo_mse)) << " | "
-     << number(mean_of(results, &ImageResult::visibility_mse)) << " | "
-     << number(mean_of(results, &ImageResult::light)) << " | "
-     << number(mean_of(results, &ImageResult::psnr)) << " | "
-     << number(mean_of(results, &ImageResult::ssim)) << " |\n";
-  const std::string md_text = md.str();
-  write_file_atomically((fs::path(out_dir) / "summary.md").string(), md_text.data(), md_text.size());
+  const std::string md_text =
+      write_outputs(out_dir, model, data, results, summarize_angles(angles));
   if (want_sheet) write_png_atomically((fs::path(out_dir) / "contact_sheet.png").string(), sheet);
   std::cout << md_text;
   return 0;

@@ -11,6 +11,7 @@
 #include "apps/facetool/infer/infer_outputs.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_pipeline.h"
+#include "core/synth/synth_runner.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
 #include "core/inference/decomposer.h"
@@ -54,6 +55,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
       ("batch", po::value<int>()->default_value(8), "images per network pass")
+      ("shard", po::value<std::string>()->default_value("0/1")->value_name("i/n"),
+       "decompose only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
       ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
@@ -108,11 +111,26 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   if (batch < 1) throw UsageError("infer: --batch must be at least 1");
   const bool aligned = values.count("aligned") > 0;
   if (!aligned && values.count("raw-output")) throw UsageError("infer: --raw-output needs --aligned");
-  const std::vector<std::string> files =
+  std::vector<std::string> files =
       aligned ? values["images"].as<std::vector<std::string>>()
               : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
   for (const std::string& f : files)
     check(fs::is_regular_file(f), "input image '", f, "' does not exist or is not a file");
+  // Output names come from the whole list, so shards write what one run writes.
+  std::vector<std::string> stems = unique_stems(files);
+  int shard_index = 0, shard_count = 1;
+  parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
+  if (shard_count > 1) {
+    std::vector<std::string> mine, my_stems;
+    for (size_t k = shard_index; k < files.size(); k += shard_count) {
+      mine.push_back(files[k]);
+      my_stems.push_back(stems[k]);
+    }
+    check(!mine.empty(), "infer: shard ", values["shard"].as<std::string>(), " holds no inputs ",
+          "(fewer inputs than shards)");
+    files = std::move(mine);
+    stems = std::move(my_stems);
+  }
   PhotoInferOptions photo_options = photo_options_from(values);
   photo_options.batch = batch;
   photo_options.contact_sheet = !values.count("no-contact-sheet");
@@ -133,7 +151,6 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     return failed > 0 ? 1 : 0;
   }
 
-  const std::vector<std::string> stems = unique_stems(files);
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");

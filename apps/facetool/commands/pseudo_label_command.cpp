@@ -8,6 +8,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "core/synth/synth_runner.h"
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
 #include "core/inference/decomposer.h"
@@ -69,13 +70,15 @@ LayeredImage labelled_sample(const FaceInput& in, const Decomposition& d, int in
 
 int run_pseudo_label(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
-  std::string model, out_dir;
+  std::string model, out_dir, shard = "0/1";
   int batch = 8;
   options.add_options()
       ("model", po::value(&model)->value_name("WEIGHTS")->required(),
        "trained weights (stage 1's weights.safetensors)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(), "output folder")
-      ("batch", po::value(&batch)->default_value(8), "images per network run");
+      ("batch", po::value(&batch)->default_value(8), "images per network run")
+      ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
+       "label only the inputs i, i+n, i+2n, ... (Slurm array jobs; same file names as unsharded)");
   po::options_description hidden;
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "inputs");
   po::positional_options_description positional;
@@ -94,9 +97,20 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   check_option_ranges(values, {{"batch", 1, 1024}});
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
-  const auto files = values["images"].as<std::vector<std::string>>();
+  std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)
     check(fs::is_regular_file(f), "input '", f, "' does not exist or is not a file");
+  // Each input keeps its index in the whole list (plain crops are named sample_<index>.exr).
+  int shard_index = 0, shard_count = 1;
+  parse_shard(shard, shard_index, shard_count);
+  std::vector<int64_t> index;
+  std::vector<std::string> mine;
+  for (size_t k = shard_index; k < files.size(); k += shard_count) {
+    mine.push_back(files[k]);
+    index.push_back(static_cast<int64_t>(k));
+  }
+  check(!mine.empty(), "pseudo-label: shard ", shard, " holds no inputs (fewer inputs than shards)");
+  files = std::move(mine);
 
   Backend& backend = get_backend(context.backend);
   auto network = load_trained_network(context, backend, model);
@@ -117,7 +131,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
     for (int i = 0; i < count; ++i) {
       const std::string name = inputs[i].sample
                                    ? fs::path(files[first + i]).filename().string()
-                                   : synth_sample_file_name(static_cast<int64_t>(first + i));
+                                   : synth_sample_file_name(index[first + i]);
       write_exr_atomically((fs::path(out_dir) / name).string(), labelled_sample(inputs[i], d, i, model));
     }
     progress.advance(count);

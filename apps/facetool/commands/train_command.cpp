@@ -11,6 +11,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
+#include "core/distributed/communicator.h"
 #include "core/io/atomic_file.h"
 #include "core/model/network_weights.h"
 #include "core/train/loss_curve.h"
@@ -61,7 +62,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "train --config FILE.json --out RUN [options]",
           "Trains the network for one stage of the paper (or any configuration), with the loss "
           "terms of the loaded loss plugins. Writes a checkpoint every checkpoint_every steps, on "
-          "Ctrl-C / SIGTERM and at the end; --resume continues from it.",
+          "Ctrl-C / SIGTERM and at the end; --resume continues from it. Under mpirun -np K the "
+          "ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes the "
+          "run folder.",
           options, {}, args, values))
     return 0;
   check_option_ranges(values, {{"steps", 1, 1e9}});
@@ -84,6 +87,11 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       losses.push_back(create_plugin<LossPlugin>(context, FACETOOL_PLUGIN_LOSS, info.name));
   check(!losses.empty(), "no loss plugin found (paper_losses.ftplugin.so); see `facetool plugins`");
   Trainer trainer(backend, config, network, renderer, losses);
+  // Under mpirun every rank trains on its rows of each batch; rank 0 alone writes the run
+  // folder and draws progress (docs/distributed.md).
+  const std::unique_ptr<Communicator> comm = make_communicator();
+  trainer.set_communicator(*comm);
+  const bool writer = comm->rank() == 0;
 
   namespace fs = std::filesystem;
   const std::string checkpoint = (fs::path(out) / "checkpoint.safetensors").string();
@@ -95,8 +103,8 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     check(fs::exists(checkpoint), "--resume: '", checkpoint, "' does not exist; start the run ",
           "without --resume");
     trainer.restore(checkpoint);
-    points = trim_log(log_path, trainer.steps_done());
-    std::cerr << "resumed " << out << " at step " << trainer.steps_done() << "\n";
+    if (writer) points = trim_log(log_path, trainer.steps_done());
+    if (writer) std::cerr << "resumed " << out << " at step " << trainer.steps_done() << "\n";
   } else {
     check(!fs::exists(checkpoint), "'", out, "' already holds a run (", checkpoint,
           "); pass --resume to continue it or choose another --out");
@@ -115,15 +123,19 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
         load_network_weights(*network, file, from);
       }
     }
-    std::ofstream(log_path, std::ios::trunc);
+    if (writer) std::ofstream(log_path, std::ios::trunc);
   }
-  std::ofstream log(log_path, std::ios::app);
-  check(log.good(), "cannot write '", log_path, "'");
+  std::ofstream log;
+  if (writer) {
+    log.open(log_path, std::ios::app);
+    check(log.good(), "cannot write '", log_path, "'");
+  }
 
   g_stop_signal.store(0);
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
   auto save_all = [&] {
+    if (!writer) return;
     trainer.save(checkpoint);
     save_network_weights(trainer.network(), config.network, weights);
     write_loss_curve(curve, points);
@@ -150,7 +162,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     log << line.dump() << "\n" << std::flush;
     points.emplace_back(static_cast<double>(r.step), r.total);
     const bool last = trainer.steps_done() == config.steps;
-    if (r.step % config.validation_every == 0 || last) {
+    if (writer && (r.step % config.validation_every == 0 || last)) {
       const ValidationRecord v = trainer.validate();
       if (v.pixels > 0) {
         log << nlohmann::json{{"step", v.step},
@@ -167,7 +179,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     if (r.step % config.checkpoint_every == 0 && !last) save_all();
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (elapsed - last_draw > 0.2 || last) {
+    if (writer && (elapsed - last_draw > 0.2 || last)) {
       std::ostringstream label;
       label << "train loss " << r.total;
       const std::string text =
@@ -176,21 +188,24 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
                 << " img/s" << std::flush;
       last_draw = elapsed;
     }
-    if (g_stop_signal.load() != 0) {
-      exit_code = 128 + g_stop_signal.load();
+    // A signal may reach the ranks at different steps: all stop at the step any rank saw it.
+    std::vector<double> stop{static_cast<double>(g_stop_signal.load())};
+    comm->allreduce_sum(stop);
+    if (stop[0] != 0) {
+      exit_code = 128 + (g_stop_signal.load() != 0 ? g_stop_signal.load() : SIGTERM);
       break;
     }
   }
-  std::cerr << "\n";
+  if (writer) std::cerr << "\n";
   if (exit_code == 3) {
-    write_loss_curve(curve, points);
+    if (writer) write_loss_curve(curve, points);
     return exit_code;
   }
   save_all();
-  if (exit_code != 0)
+  if (writer && exit_code != 0)
     std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
               << checkpoint << " (continue with --resume)\n";
-  else
+  else if (writer)
     std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << weights << "\n";
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
