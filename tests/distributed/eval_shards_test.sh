@@ -54,9 +54,9 @@ grep -q "is in two shards" err.txt || { cat err.txt; exit 1; }
 echo "merged shards equal the unsharded eval"
 # infer and pseudo-label: two shards into one folder equal one run (same names, same bytes);
 # plain crops (infer's input.png) are named by their index in the whole list.
-"$facetool" infer --model $model data/sample_*.exr -o inf --no-contact-sheet >/dev/null 2>&1
+"$facetool" infer --aligned --model $model data/sample_*.exr -o inf --no-contact-sheet >/dev/null 2>&1
 for i in 0 1; do
-  "$facetool" infer --model $model data/sample_*.exr -o inf2 --no-contact-sheet --shard $i/2 >/dev/null 2>&1
+  "$facetool" infer --aligned --model $model data/sample_*.exr -o inf2 --no-contact-sheet --shard $i/2 >/dev/null 2>&1
 done
 diff -r inf inf2 || { echo "FAIL: sharded infer differs"; exit 1; }
 for inputs in "data/sample_*.exr" "inf/*/input.png"; do
