@@ -6,8 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/sh/sh_basis.h"
-#include "core/sh/sphere_samples.h"
+#include "core/sh/sh_gram.h"
 
 namespace facetool {
 
@@ -99,17 +98,7 @@ double masked_ssim(const float* a, const float* b, const float* mask, int width,
 }
 
 double light_error(const float* a, const float* b) {
-  static const std::array<std::array<double, 9>, 9> gram = [] {
-    std::array<std::array<double, 9>, 9> g{};
-    const std::vector<sh::Vec3> dirs = sh::fibonacci_sphere(sh::kIlluminationSampleCount);
-    for (const sh::Vec3& w : dirs) {
-      double y[9];
-      sh::sh_basis(w[0], w[1], w[2], y);
-      for (int i = 0; i < 9; ++i)
-        for (int j = 0; j < 9; ++j) g[i][j] += y[i] * y[j] / static_cast<double>(dirs.size());
-    }
-    return g;
-  }();
+  const auto& gram = sh::illumination_gram_matrix();
   double total = 0;
   for (int c = 0; c < 3; ++c)
     for (int i = 0; i < 9; ++i)

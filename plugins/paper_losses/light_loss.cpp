@@ -3,28 +3,10 @@
 
 #include <vector>
 
-#include "core/sh/sh_basis.h"
-#include "core/sh/sphere_samples.h"
+#include "core/sh/sh_gram.h"
 #include "core/util/error.h"
 
 namespace facetool::paper_losses {
-
-const std::array<std::array<double, 9>, 9>& light_gram_matrix() {
-  static const std::array<std::array<double, 9>, 9> gram = [] {
-    std::array<std::array<double, 9>, 9> g{};
-    const std::vector<sh::Vec3> dirs = sh::fibonacci_sphere(sh::kIlluminationSampleCount);
-    for (const sh::Vec3& w : dirs) {
-      double y[9];
-      sh::sh_basis(w[0], w[1], w[2], y);
-      for (int i = 0; i < 9; ++i)
-        for (int j = 0; j < 9; ++j) g[i][j] += y[i] * y[j];
-    }
-    for (auto& row : g)
-      for (double& v : row) v /= static_cast<double>(dirs.size());
-    return g;
-  }();
-  return gram;
-}
 
 ag::Variable light_loss(const ag::Variable& predicted, const ag::Variable& target) {
   const Shape& s = predicted.shape();
@@ -32,7 +14,7 @@ ag::Variable light_loss(const ag::Variable& predicted, const ag::Variable& targe
   check(target.shape() == s, "light loss: target light ", target.shape().str(),
         " does not match the predicted ", s.str());
   const std::vector<float> p = predicted.value().to_host(), t = target.value().to_host();
-  const auto& g = light_gram_matrix();
+  const auto& g = sh::illumination_gram_matrix();
   const int64_t rows = s[0] * 3;
   // gd = G d per row, kept for the backward pass.
   std::vector<double> d(p.size()), gd(p.size());

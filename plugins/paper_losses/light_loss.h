@@ -7,12 +7,8 @@
 
 namespace facetool::paper_losses {
 
-// G[i][j] = 1/M sum_m Y_i(w_m) Y_j(w_m) over the M = 64,000 Fibonacci directions
-// (core/sh/sphere_samples.h), computed once in double precision.
-const std::array<std::array<double, 9>, 9>& light_gram_matrix();
-
 // E_L = 1/(3 N M) sum_n,c,m (L_pred[n,c] . Y(w_m) - L_target[n,c] . Y(w_m))^2
-//     = 1/(3 N) sum_n,c d^T G d with d = L_pred[n,c] - L_target[n,c]; lights are [N,27]
+//     = 1/(3 N) sum_n,c d^T G d (G: sh::illumination_gram_matrix) with d = L_pred[n,c] - L_target[n,c]; lights are [N,27]
 // (channel-major). Differentiable in both lights; evaluated on the host in double (27 N values).
 ag::Variable light_loss(const ag::Variable& predicted, const ag::Variable& target);
 
