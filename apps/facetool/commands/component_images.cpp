@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/image/resize.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/util/error.h"
@@ -79,6 +80,19 @@ std::vector<int> grey_or_equal_rgb(int channels) {
 bool is_float_image_file(const std::string& path) {
   const std::string extension = lower_extension(path);
   return extension == ".exr" || extension == ".hdr" || extension == ".pfm";
+}
+
+std::vector<float> read_planar_crop(const std::string& path, int size) {
+  const RgbImage image = read_rgb_image(path, !is_float_image_file(path));
+  const size_t plane = static_cast<size_t>(image.width) * image.height;
+  std::vector<float> planar(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = image.pixels[p * 3 + c];
+      check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
+      planar[c * plane + p] = v;
+    }
+  return resize_planar(planar, 3, image.width, image.height, size, size);
 }
 
 ComponentImage read_albedo_image(const std::string& path) {

@@ -23,6 +23,11 @@ struct ComponentImage {
 // anything else (PNG, ...) is an encoded 8/16-bit image whose values OpenImageIO scales to [0, 1].
 bool is_float_image_file(const std::string& path);
 
+// A face crop as planar linear RGB ([3][size*size]) at the network's size: 8/16-bit files are
+// decoded from sRGB, float files taken as linear, then resized; a NaN or infinite pixel is a
+// facetool::Error naming the file.
+std::vector<float> read_planar_crop(const std::string& path, int size);
+
 // Each reader takes the component's own channels from a multi-layer EXR when they are there
 // (synth samples: albedo.R/G/B, normal.X/Y/Z, visibility.0..8, mask); otherwise it takes the
 // file's channels by count. Throws facetool::Error naming the option and file for a missing or

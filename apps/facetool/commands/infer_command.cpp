@@ -25,20 +25,6 @@ namespace fs = std::filesystem;
 namespace facetool {
 namespace {
 
-// One input crop: planar linear RGB at the network's size.
-std::vector<float> load_crop(const std::string& path, int size) {
-  const RgbImage image = read_rgb_image(path, !is_float_image_file(path));
-  const size_t plane = static_cast<size_t>(image.width) * image.height;
-  std::vector<float> planar(plane * 3);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const float v = image.pixels[p * 3 + c];
-      check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
-      planar[c * plane + p] = v;
-    }
-  return resize_planar(planar, 3, image.width, image.height, size, size);
-}
-
 // Output folder names: the file's stem, made unique when two inputs share one.
 std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
   std::map<std::string, int> seen;
@@ -158,7 +144,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     const int count = static_cast<int>(std::min(files.size() - first, static_cast<size_t>(batch)));
     std::vector<float> inputs;
     for (int i = 0; i < count; ++i) {
-      std::vector<float> crop = load_crop(files[first + i], size);
+      std::vector<float> crop = read_planar_crop(files[first + i], size);
       inputs.insert(inputs.end(), crop.begin(), crop.end());
     }
     const Decomposition d = decomposer.run(backend, inputs, count);

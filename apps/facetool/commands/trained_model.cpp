@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/image/resize.h"
+#include "apps/facetool/commands/component_images.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/model/network_weights.h"
@@ -48,16 +48,7 @@ FaceInput load_face_input(const std::string& path, int size) {
       return in;
     }
   }
-  const RgbImage image = read_rgb_image(path, !(ext == ".exr" || ext == ".hdr"));
-  const size_t plane = static_cast<size_t>(image.width) * image.height;
-  std::vector<float> planar(plane * 3);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const float v = image.pixels[p * 3 + c];
-      check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
-      planar[c * plane + p] = v;
-    }
-  in.image = resize_planar(planar, 3, image.width, image.height, size, size);
+  in.image = read_planar_crop(path, size);
   in.mask.assign(static_cast<size_t>(size) * size, 1.0f);
   return in;
 }
