@@ -5,20 +5,15 @@
 #include <filesystem>
 
 #include "apps/facetool/commands/component_images.h"
+#include "apps/facetool/infer/network_loading.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
-#include "core/model/network_weights.h"
 
 namespace facetool {
 
 std::shared_ptr<NetworkPlugin> load_trained_network(CommandContext& context, Backend& backend,
                                                     const std::string& weights_path) {
-  const SafeTensors weights = SafeTensors::read_file(weights_path);
-  const WeightsHeader header = read_weights_header(weights, weights_path);
-  auto network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, header.architecture);
-  network->build(backend, header.config);
-  load_network_weights(*network, weights, weights_path);
-  return network;
+  return load_network_weights_file(context, backend, weights_path).network;
 }
 
 FaceInput load_face_input(const std::string& path, int size) {

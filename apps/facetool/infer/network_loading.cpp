@@ -29,19 +29,26 @@ void check_network_choice(const po::variables_map& values, const std::string& co
     throw UsageError(command + ": --init takes only 'random'");
 }
 
+LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backend,
+                                        const std::string& path, const std::string& architecture) {
+  LoadedNetwork out;
+  const SafeTensors weights = SafeTensors::read_file(path);
+  const WeightsHeader header = read_weights_header(weights, path);
+  out.architecture = architecture.empty() ? header.architecture : architecture;
+  check(out.architecture == header.architecture, "weights '", path, "' are for network '",
+        header.architecture, "' but --network asks for '", out.architecture, "'");
+  out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
+  out.network->build(backend, header.config);
+  load_network_weights(*out.network, weights, path);
+  return out;
+}
+
 LoadedNetwork load_network(CommandContext& context, const po::variables_map& values, Backend& backend) {
   LoadedNetwork out;
   out.architecture = values.count("network") ? values["network"].as<std::string>() : "";
   if (values.count("model")) {
-    const std::string path = values["model"].as<std::string>();
-    const SafeTensors weights = SafeTensors::read_file(path);
-    const WeightsHeader header = read_weights_header(weights, path);
-    if (out.architecture.empty()) out.architecture = header.architecture;
-    check(out.architecture == header.architecture, "weights '", path, "' are for network '",
-          header.architecture, "' but --network asks for '", out.architecture, "'");
-    out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
-    out.network->build(backend, header.config);
-    load_network_weights(*out.network, weights, path);
+    out = load_network_weights_file(context, backend, values["model"].as<std::string>(),
+                                    out.architecture);
   } else {
     if (out.architecture.empty()) out.architecture = "paper_network";
     out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);

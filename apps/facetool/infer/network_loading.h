@@ -27,6 +27,11 @@ struct LoadedNetwork {
   std::string architecture;
 };
 
+// Builds the weights' network on `backend` and loads them. `architecture` (a --network choice)
+// must agree with the file's when given. Used by infer, relight, pseudo-label and eval.
+LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backend,
+                                        const std::string& path, const std::string& architecture = "");
+
 // Builds the network on `backend` from --model's weights (architecture from the file unless
 // --network says otherwise, which must then agree) or with --init random weights.
 LoadedNetwork load_network(CommandContext& context, const boost::program_options::variables_map& values,
