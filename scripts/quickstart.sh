@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One command for a fresh Debian machine: install dependencies, build, run the bundled example job.
+# One command for a fresh Debian machine: install dependencies, build, decompose the bundled example photo.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-dependencies.sh
@@ -8,5 +8,8 @@ echo
 echo "== facetool backends"
 build/bin/facetool backends
 echo
-echo "== facetool bench ops --quick (cpu)"
-build/bin/facetool bench ops --quick --backend cpu
+echo "== facetool infer examples/photos/grace_hopper_512x512.jpg (the shipped model, docs/model-card.md)"
+build/bin/facetool infer examples/photos/grace_hopper_512x512.jpg -o build/example
+echo
+echo "contact sheet: build/example/grace_hopper_512x512/contact_sheet.png"
+echo "(albedo, normal, visibility, shading, reconstruction beside it; docs/photos.md)"

@@ -33,6 +33,22 @@ strip() { grep '"total"' "$1" | sed -E 's/"seconds(_data)?":[-0-9.e+]+,?//g'; }
 if ! diff <(strip straight/log.jsonl) <(strip stopped/log.jsonl); then
   echo "FAIL: the resumed run's log differs from the uninterrupted run's"; exit 1
 fi
+# --time-limit stops early with exit 0 and a checkpoint; --resume then continues the same losses.
+"$facetool" train --config smoke.json --out timed --steps 1000000 --time-limit 0.01 2>timed.txt
+grep -q "time limit of 0.01 min reached at step" timed.txt || { cat timed.txt; exit 1; }
+timed_steps=$(grep -c '"total"' timed/log.jsonl)
+[ "$timed_steps" -ge 1 ] && [ "$timed_steps" -lt 1000000 ] || { echo "FAIL: timed run took $timed_steps steps"; exit 1; }
+[ -s timed/checkpoint.safetensors ] && [ -s timed/weights.safetensors ] || { echo "FAIL: timed run wrote no checkpoint"; exit 1; }
+n=$((timed_steps < 8 ? timed_steps : 8))
+if ! diff <(strip straight/log.jsonl | head -n "$n") <(strip timed/log.jsonl | head -n "$n"); then
+  echo "FAIL: the --time-limit run's losses differ from the uninterrupted run's"; exit 1
+fi
+if [ "$timed_steps" -lt 8 ]; then
+  "$facetool" train --config smoke.json --out timed --resume 2>/dev/null
+  if ! diff <(strip straight/log.jsonl) <(strip timed/log.jsonl); then
+    echo "FAIL: the run resumed after --time-limit differs from the uninterrupted run"; exit 1
+  fi
+fi
 # A second start into the same folder without --resume is refused.
 if "$facetool" train --config smoke.json --out straight 2>err.txt; then echo "FAIL: reused run"; exit 1; fi
 grep -q "already holds a run" err.txt || { cat err.txt; exit 1; }

@@ -10,6 +10,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "apps/facetool/infer/default_model.h"
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
 #include "core/inference/decomposer.h"
@@ -221,7 +222,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<std::string> merge;
   int batch = 8;
   options.add_options()
-      ("model", po::value(&model)->value_name("WEIGHTS"), "trained weights")
+      ("model", po::value(&model)->value_name("WEIGHTS"), "trained weights (default: the shipped model)")
       ("data", po::value(&data)->value_name("DIR"),
        "folder of sample_*.exr (synthetic: with ground truth; real: reconstruction only)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(),
@@ -235,7 +236,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
       ("contact-sheet", "also write contact_sheet.png: input, reconstruction, normal, true normal");
   po::variables_map values;
   if (!parse_command_options(
-          "eval --model WEIGHTS --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
+          "eval [--model WEIGHTS] --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
           "       facetool eval --merge SHARD_DIR... -o OUT",
           "Evaluates a trained network. On synthetic samples (ground truth): the paper's Table 1 "
           "(normal angular\nerror mean +- std, % of pixels under 20, 25, 30 degrees), albedo and "
@@ -250,7 +251,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
       throw UsageError("eval: --merge takes only shard folders and -o");
     return merge_shards(merge, out_dir);
   }
-  if (model.empty() || data.empty()) throw UsageError("eval: --model and --data are required");
+  if (data.empty()) throw UsageError("eval: --data DIR is required");
+  if (model.empty()) model = default_model_path();
   int shard_index = 0, shard_count = 1;
   parse_shard(shard, shard_index, shard_count);
   if (batch < 1) throw UsageError("eval: --batch must be at least 1");

@@ -58,7 +58,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   positional.add("images", -1);
   po::variables_map values;
   if (!parse_command_options(
-          "infer PHOTO|DIR... (--model WEIGHTS | --init random) -o DIR [options]",
+          "infer PHOTO|DIR... [--model WEIGHTS | --init random] -o DIR [options]",
           "Finds every face in each photo (folders: every photo in them), aligns it to the "
           "synthetic framing,\ndecomposes it into albedo, normals, SH visibility and SH light, "
           "and pastes the results back at\nthe photo's resolution. Per photo, <output>/<name>/ "

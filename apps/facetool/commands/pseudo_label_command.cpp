@@ -8,6 +8,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "apps/facetool/infer/default_model.h"
 #include "core/synth/synth_runner.h"
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
@@ -73,8 +74,8 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   std::string model, out_dir, shard = "0/1";
   int batch = 8;
   options.add_options()
-      ("model", po::value(&model)->value_name("WEIGHTS")->required(),
-       "trained weights (stage 1's weights.safetensors)")
+      ("model", po::value(&model)->value_name("WEIGHTS"),
+       "trained weights (stage 1's weights.safetensors; default: the shipped model)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(), "output folder")
       ("batch", po::value(&batch)->default_value(8), "images per network run")
       ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
@@ -85,7 +86,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   positional.add("images", -1);
   po::variables_map values;
   if (!parse_command_options(
-          "pseudo-label --model WEIGHTS INPUT... -o DIR",
+          "pseudo-label [--model WEIGHTS] INPUT... -o DIR",
           "Runs a trained network on real face samples and writes them to DIR with the predicted "
           "albedo, normal,\nvisibility and light as labels (channels albedo.*, normal.*, "
           "visibility.0..8, attribute facetool:light_sh),\nso that stage 2 reads them like "
@@ -96,6 +97,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
     return 0;
   check_option_ranges(values, {{"batch", 1, 1024}});
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
+  if (model.empty()) model = default_model_path();
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
   std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)

@@ -87,7 +87,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   positional.add("photos", -1);
   po::variables_map values;
   if (!parse_command_options(
-          "relight PHOTO|DIR... (--light L | --light-from PHOTO2 | --envmap MAP) (--model W | --init random) -o DIR [options]",
+          "relight PHOTO|DIR... (--light L | --light-from PHOTO2 | --envmap MAP) [--model W | --init random] -o DIR [options]",
           "Decomposes every face of each photo once, replaces its light by the new one and re-renders it\n"
           "with the estimated visibility (so nostrils, eye sockets and mouth keep their self-shadowing),\n"
           "then pastes it back into the photo at the photo's resolution. The new light is given in the\n"

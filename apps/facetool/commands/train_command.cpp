@@ -46,6 +46,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   po::options_description options("Options");
   std::string config_path, out, from;
   int64_t steps = 0;
+  double time_limit_minutes = 0;
   options.add_options()
       ("config", po::value(&config_path)->value_name("FILE.json")->required(),
        "training configuration (configs/*.json; docs/training.md)")
@@ -56,6 +57,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       ("from", po::value(&from)->value_name("WEIGHTS"),
        "start from these weights (a weights file or a checkpoint), e.g. stage 1's for stage 2")
       ("steps", po::value(&steps)->value_name("N"), "train N steps in all (default: the config's)")
+      ("time-limit", po::value(&time_limit_minutes)->value_name("MINUTES"),
+       "stop after this much wall time in this process (checkpoint written; --resume continues): "
+       "runs of equal time, sittings of a long run")
       ("resume", "continue the run in RUN from its checkpoint, exactly (same losses on cpu)");
   po::variables_map values;
   if (!parse_command_options(
@@ -67,7 +71,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "run folder.",
           options, {}, args, values))
     return 0;
-  check_option_ranges(values, {{"steps", 1, 1e9}});
+  check_option_ranges(values, {{"steps", 1, 1e9}, {"time-limit", 0.01, 1e6}});
   if (values["init"].as<std::string>() != "random")
     throw UsageError("--init takes only 'random'; use --from WEIGHTS for a weights file");
   const bool resume = values.count("resume") != 0;
@@ -146,6 +150,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   int64_t images = 0;
   double last_draw = -1.0;
   int exit_code = 0;
+  bool out_of_time = false;
   while (trainer.steps_done() < config.steps) {
     StepRecord r;
     try {
@@ -195,6 +200,14 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       exit_code = 128 + (g_stop_signal.load() != 0 ? g_stop_signal.load() : SIGTERM);
       break;
     }
+    // Rank 0's clock decides, so that every rank stops after the same step.
+    std::vector<double> late{time_limit_minutes > 0 && elapsed >= time_limit_minutes * 60.0 ? 1.0 : 0.0};
+    if (!writer) late[0] = 0;
+    comm->allreduce_sum(late);
+    if (late[0] != 0 && trainer.steps_done() < config.steps) {
+      out_of_time = true;
+      break;
+    }
   }
   if (writer) std::cerr << "\n";
   if (exit_code == 3) {
@@ -205,6 +218,10 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   if (writer && exit_code != 0)
     std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
               << checkpoint << " (continue with --resume)\n";
+  else if (writer && out_of_time)
+    std::cerr << "time limit of " << time_limit_minutes << " min reached at step "
+              << trainer.steps_done() << " of " << config.steps << "; checkpoint written to "
+              << checkpoint << " (continue with --resume); weights in " << weights << "\n";
   else if (writer)
     std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << weights << "\n";
   std::signal(SIGINT, SIG_DFL);

@@ -1,6 +1,7 @@
-// The network options shared by `infer` and `relight`: --model W or --init random, and loading it.
+// The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
 #include "apps/facetool/infer/network_loading.h"
 
+#include "apps/facetool/infer/default_model.h"
 #include "core/model/network_weights.h"
 #include "core/model/safetensors.h"
 
@@ -10,7 +11,9 @@ namespace facetool {
 
 void add_network_options(po::options_description& options) {
   options.add_options()
-      ("model,m", po::value<std::string>(), "network weights (.safetensors, docs/model-format.md)")
+      ("model,m", po::value<std::string>()->value_name("WEIGHTS"),
+       "network weights (.safetensors, docs/model-format.md; default: the shipped model "
+       "share/facetool/models/facetool-v1.safetensors, docs/model-card.md)")
       ("init", po::value<std::string>(), "'random': untrained weights instead of --model (for testing the pipeline)")
       ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
       ("width", po::value<int>()->default_value(128), "network width for --init random")
@@ -23,8 +26,8 @@ std::vector<OptionRange> network_option_ranges() {
 }
 
 void check_network_choice(const po::variables_map& values, const std::string& command) {
-  if (values.count("model") == values.count("init"))
-    throw UsageError(command + ": give exactly one of --model WEIGHTS or --init random");
+  if (values.count("model") && values.count("init"))
+    throw UsageError(command + ": give --model WEIGHTS or --init random, not both");
   if (values.count("init") && values["init"].as<std::string>() != "random")
     throw UsageError(command + ": --init takes only 'random'");
 }
@@ -46,9 +49,10 @@ LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backen
 LoadedNetwork load_network(CommandContext& context, const po::variables_map& values, Backend& backend) {
   LoadedNetwork out;
   out.architecture = values.count("network") ? values["network"].as<std::string>() : "";
-  if (values.count("model")) {
-    out = load_network_weights_file(context, backend, values["model"].as<std::string>(),
-                                    out.architecture);
+  if (!values.count("init")) {
+    const std::string path =
+        values.count("model") ? values["model"].as<std::string>() : default_model_path();
+    out = load_network_weights_file(context, backend, path, out.architecture);
   } else {
     if (out.architecture.empty()) out.architecture = "paper_network";
     out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight`: --model W or --init random, and loading it.
+// The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -19,7 +19,7 @@ void add_network_options(boost::program_options::options_description& options);
 // Valid ranges of --seed, --width and --input-size (for check_option_ranges).
 std::vector<OptionRange> network_option_ranges();
 
-// Checks that exactly one of --model / --init random is given (UsageError naming `command`).
+// Checks that --model and --init random are not both given (UsageError naming `command`).
 void check_network_choice(const boost::program_options::variables_map& values, const std::string& command);
 
 struct LoadedNetwork {
@@ -32,8 +32,9 @@ struct LoadedNetwork {
 LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backend,
                                         const std::string& path, const std::string& architecture = "");
 
-// Builds the network on `backend` from --model's weights (architecture from the file unless
-// --network says otherwise, which must then agree) or with --init random weights.
+// Builds the network on `backend` from --model's weights, else the shipped model's
+// (default_model.h; architecture from the file unless --network says otherwise, which must then
+// agree), or with --init random weights.
 LoadedNetwork load_network(CommandContext& context, const boost::program_options::variables_map& values,
                            Backend& backend);
 

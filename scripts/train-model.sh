@@ -1,0 +1,233 @@
+#!/usr/bin/env bash
+# Reproduces the shipped model (models/facetool-v1.safetensors) from a fresh clone: data, width trials, stage 1, pseudo labels, stage 2, evaluation.
+#
+#   bash scripts/train-model.sh [STEP...]      # no STEP: all of them, in order
+#
+# Steps: lights synth real width-trials stage1 pseudo stage2 eval figures ship. Every step is resumable:
+# synth and prepare-real keep the samples already written, training continues from its
+# checkpoint (--resume), and a finished step is skipped (its marker is $WORK/done/STEP). Stop
+# it at any time (Ctrl-C: training writes its checkpoint first) and run the same command again,
+# in this sitting or another one. Each step's wall time on this machine lands in
+# $WORK/timings.tsv; docs/model-card.md quotes them.
+#
+# Environment: FACETOOL (the program, default build/bin/facetool), SHARED (default ../shared:
+# the ICT-FaceKit model, the HDRIs and the UTKFace photos), WORK (default data/train-model,
+# where everything but the shipped weights goes: about 2.5 GB), SITTING_MINUTES (a time limit
+# for each training step in this sitting; unset: train to the end).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+FACETOOL=${FACETOOL:-build/bin/facetool}
+SHARED=${SHARED:-../shared}
+WORK=${WORK:-data/train-model}
+
+# The data and the schedule (docs/model-card.md explains each choice).
+SIZE=64                  # network input and sample size: measured choice, see the model card
+SYNTH_TRAIN=20000        # synthetic training samples (seed 1, training lights)
+SYNTH_HELDOUT=500        # held-out synthetic samples (seed 2: new identities; held-out lights)
+TRIAL_WIDTHS="16 32 64"  # widths compared for the same wall time
+TRIAL_MINUTES=15         # wall time of the width trials (side by side, one thread each)
+TRIAL_SAMPLES=8000       # the trials train on the samples 0..TRIAL_SAMPLES-1 (more than they reach)
+HELDOUT_LIGHTS="quarry_01_1k.hdr sunrise.exr sunset.exr"  # never seen in training
+REAL_HELDOUT_EVERY=10    # the 10th, 20th, ... photo of the sorted UTKFace list is held out
+
+STUDIO_LIGHTS=/usr/share/blender/datafiles/studiolights/world
+FACE_MODEL=$SHARED/assets/ict-facekit/FaceXModel
+UTKFACE=$SHARED/assets/faces/utkface-crop-part1
+
+die() { echo "train-model: $*" >&2; exit 1; }
+[ -x "$FACETOOL" ] || die "$FACETOOL not found: build first (bash scripts/build.sh) or set FACETOOL"
+[ -d "$FACE_MODEL" ] || die "$FACE_MODEL not found: set SHARED to the folder holding assets/"
+[ -d "$UTKFACE" ] || die "$UTKFACE not found: set SHARED to the folder holding assets/"
+[ -d "$STUDIO_LIGHTS" ] || die "$STUDIO_LIGHTS not found: apt-get install blender-data"
+mkdir -p "$WORK/done"
+
+# Runs step NAME (the function step_NAME) unless it is done, and records its wall time.
+run_step() {
+  local name=$1
+  if [ -e "$WORK/done/$name" ]; then echo "== $name: done earlier (remove $WORK/done/$name to redo)"; return; fi
+  echo "== $name ($(date -u +%H:%M:%S) UTC)"
+  local start=$SECONDS
+  "step_$name"
+  local seconds=$((SECONDS - start))
+  printf '%s\t%d\t%s\t%s\n' "$name" "$seconds" "$(date -u +%FT%TZ)" \
+    "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | xargs) x $(nproc)" >> "$WORK/timings.tsv"
+  touch "$WORK/done/$name"
+  echo "== $name: ${seconds} s"
+}
+
+# Training lights: the HDRIs of SHARED and blender-data except the held-out ones.
+step_lights() {
+  rm -rf "$WORK/lights" && mkdir -p "$WORK/lights/train" "$WORK/lights/heldout"
+  local f name
+  for f in "$SHARED"/assets/hdri/*.hdr "$STUDIO_LIGHTS"/*.exr; do
+    name=$(basename "$f")
+    if [[ " $HELDOUT_LIGHTS " == *" $name "* ]]; then
+      ln -s "$(realpath "$f")" "$WORK/lights/heldout/$name"
+    else
+      ln -s "$(realpath "$f")" "$WORK/lights/train/$name"
+    fi
+  done
+}
+
+# Synthetic samples. Every sample draws a new identity from the face model, so the held-out
+# seed's identities are unseen; its lights are the held-out ones.
+step_synth() {
+  "$FACETOOL" synth --face-model "$FACE_MODEL" --lights "$WORK/lights/heldout" --size "$SIZE" \
+    --count "$SYNTH_HELDOUT" --seed 2 -o "$WORK/synthetic-heldout"
+  "$FACETOOL" synth --face-model "$FACE_MODEL" --lights "$WORK/lights/train" --size "$SIZE" \
+    --count "$SYNTH_TRAIN" --seed 1 -o "$WORK/synthetic" --contact-sheet "$WORK/synthetic-sheet.png"
+}
+
+# Real photos: aligned crops with masks (prepare-real), split by the documented rule.
+step_real() {
+  rm -rf "$WORK/utkface" && mkdir -p "$WORK/utkface/train" "$WORK/utkface/heldout"
+  local k=0 f
+  while IFS= read -r f; do
+    k=$((k + 1))
+    if [ $((k % REAL_HELDOUT_EVERY)) -eq 0 ]; then
+      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/heldout/$f"
+    else
+      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/train/$f"
+    fi
+  done < <(ls "$UTKFACE" | LC_ALL=C sort)
+  "$FACETOOL" prepare-real "$WORK/utkface/train" --size "$SIZE" -o "$WORK/real"
+  "$FACETOOL" prepare-real "$WORK/utkface/heldout" --size "$SIZE" -o "$WORK/real-heldout"
+}
+
+# A stage-1 configuration for `width` on the data folder `data`, written into the work folder.
+write_stage1_config() {
+  local path=$1 width=$2 steps=$3 data=$4
+  sed -e "s/\"width\": [0-9]*/\"width\": $width/" -e "s/\"steps\": [0-9]*/\"steps\": $steps/" \
+    -e "s#\"directory\": \"[^\"]*\"#\"directory\": \"$(realpath "$data")\"#" \
+    configs/facetool-v1-stage1.json > "$path"
+}
+
+# Trains RUN with CONFIG (resuming its checkpoint when there is one), within SITTING_MINUTES.
+train_run() {
+  local config=$1 run=$2; shift 2
+  local limit=()
+  [ -n "${SITTING_MINUTES:-}" ] && limit=(--time-limit "$SITTING_MINUTES")
+  if [ -e "$run/checkpoint.safetensors" ]; then
+    "$FACETOOL" train --config "$config" --out "$run" --resume "${limit[@]}"
+  else
+    "$FACETOOL" train --config "$config" --out "$run" "$@" "${limit[@]}"
+  fi
+  # The run is complete when its log reaches the configuration's step count.
+  local want have
+  want=$(grep -o '"steps": *[0-9]*' "$config" | grep -o '[0-9]*$')
+  have=$(grep -c '"total"' "$run/log.jsonl" || true)
+  [ "$have" -ge "$want" ] || die "$run stopped at step $have of $want; run the same command again to continue"
+}
+
+# Width trials: the widths train side by side, one thread each, for the same wall time (so that
+# whatever else the machine does slows them alike); the held-out normal error decides.
+step_width-trials() {
+  mkdir -p "$WORK/width-trials"
+  rm -rf "$WORK/trial-synthetic" && mkdir -p "$WORK/trial-synthetic"
+  local i name
+  for ((i = 0; i < TRIAL_SAMPLES; i++)); do
+    name=$(printf 'sample_%08d.exr' "$i")
+    [ -e "$WORK/synthetic/$name" ] || die "$WORK/synthetic/$name missing: run the synth step"
+    ln -s "$(realpath "$WORK/synthetic/$name")" "$WORK/trial-synthetic/$name"
+  done
+  local w pids=()
+  for w in $TRIAL_WIDTHS; do
+    local run=$WORK/width-trials/w$w
+    write_stage1_config "$WORK/width-trials/w$w.json" "$w" 1000000 "$WORK/trial-synthetic"
+    rm -rf "$run"
+    FACETOOL_NUM_THREADS=1 "$FACETOOL" train --config "$WORK/width-trials/w$w.json" --out "$run" \
+      --time-limit "$TRIAL_MINUTES" 2> "$WORK/width-trials/w$w.log" &
+    pids+=($!)
+  done
+  for pid in "${pids[@]}"; do wait "$pid" || die "a width trial failed (logs in $WORK/width-trials)"; done
+  for w in $TRIAL_WIDTHS; do
+    "$FACETOOL" eval --model "$WORK/width-trials/w$w/weights.safetensors" \
+      --data "$WORK/synthetic-heldout" -o "$WORK/width-trials/w$w/eval" > /dev/null
+  done
+  {
+    printf 'width\tsteps\tweights_bytes\tnormal_error_mean_deg\n'
+    for w in $TRIAL_WIDTHS; do
+      local run=$WORK/width-trials/w$w
+      printf '%s\t%s\t%s\t%s\n' "$w" "$(grep -c '"total"' "$run/log.jsonl")" \
+        "$(stat -c %s "$run/weights.safetensors")" \
+        "$(grep -o '"mean_deg": *[0-9.]*' "$run/eval/summary.json" | head -1 | grep -o '[0-9.]*$')"
+    done
+  } > "$WORK/width-trials/summary.tsv"
+  cat "$WORK/width-trials/summary.tsv"
+}
+
+step_stage1() {
+  local config=$WORK/stage1.json
+  sed -e "s#\"directory\": \"[^\"]*\"#\"directory\": \"$(realpath "$WORK")/synthetic\"#" \
+    configs/facetool-v1-stage1.json > "$config"
+  train_run "$config" "$WORK/stage1"
+}
+
+step_pseudo() {
+  "$FACETOOL" pseudo-label --model "$WORK/stage1/weights.safetensors" "$WORK"/real/sample_*.exr \
+    -o "$WORK/real-pseudo"
+}
+
+step_stage2() {
+  local config=$WORK/stage2.json
+  sed -e "s#\"directory\": \"[^\"]*synthetic\"#\"directory\": \"$(realpath "$WORK")/synthetic\"#" \
+    -e "s#\"directory\": \"[^\"]*real-pseudo\"#\"directory\": \"$(realpath "$WORK")/real-pseudo\"#" \
+    configs/facetool-v1-stage2.json > "$config"
+  train_run "$config" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
+}
+
+# Held-out figures of stage 1 and stage 2: synthetic (Table 1 form) and real (PSNR, SSIM, per group).
+step_eval() {
+  local stage
+  for stage in stage1 stage2; do
+    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/synthetic-heldout" \
+      -o "$WORK/eval/$stage-synthetic" --contact-sheet
+    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/real-heldout" \
+      -o "$WORK/eval/$stage-real" --contact-sheet
+    python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
+      "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
+    cat "$WORK/eval/$stage-real/groups.md"
+  done
+}
+
+# Pictures for docs/ (synthetic samples and public-domain photos only; UTKFace stays out of the
+# repository): the example photo's contact sheet, held-out synthetic rows, the worst ones.
+step_figures() {
+  mkdir -p docs/images "$WORK/figures"
+  "$FACETOOL" infer --model "$WORK/stage2/weights.safetensors" \
+    examples/photos/grace_hopper_512x512.jpg examples/photos/astronaut.png -o "$WORK/figures/example"
+  cp "$WORK/figures/example/grace_hopper_512x512/contact_sheet.png" docs/images/example-contact-sheet.png
+  cp "$WORK/figures/example/astronaut/contact_sheet.png" docs/images/example-contact-sheet-astronaut.png
+  # First 8 held-out samples, and the 8 with the largest normal error.
+  rm -rf "$WORK/figures/first" "$WORK/figures/worst" && mkdir -p "$WORK/figures/first" "$WORK/figures/worst"
+  local f
+  for f in $(ls "$WORK/synthetic-heldout" | grep '^sample_.*\.exr$' | head -8); do
+    ln -s "$(realpath "$WORK/synthetic-heldout/$f")" "$WORK/figures/first/$f"
+  done
+  for f in $(tail -n +2 "$WORK/eval/stage2-synthetic/per_image.csv" | sort -t, -k3,3 -g -r | head -8 | cut -d, -f1); do
+    ln -s "$(realpath "$WORK/synthetic-heldout/$f")" "$WORK/figures/worst/$f"
+  done
+  local set
+  for set in first worst; do
+    "$FACETOOL" eval --model "$WORK/stage2/weights.safetensors" --data "$WORK/figures/$set" \
+      -o "$WORK/figures/$set-eval" --contact-sheet > /dev/null
+    cp "$WORK/figures/$set-eval/contact_sheet.png" "docs/images/model-card-heldout-$set.png"
+  done
+}
+
+step_ship() {
+  local bytes
+  bytes=$(stat -c %s "$WORK/stage2/weights.safetensors")
+  [ "$bytes" -le 20000000 ] || die "stage 2 weights are $bytes bytes, over the 20 MB limit"
+  cp "$WORK/stage2/weights.safetensors" models/facetool-v1.safetensors.tmp
+  mv models/facetool-v1.safetensors.tmp models/facetool-v1.safetensors
+  sha256sum models/facetool-v1.safetensors
+}
+
+steps=("$@")
+[ ${#steps[@]} -eq 0 ] && steps=(lights synth real width-trials stage1 pseudo stage2 eval figures ship)
+for s in "${steps[@]}"; do
+  declare -F "step_$s" > /dev/null || die "unknown step '$s' (lights synth real width-trials stage1 pseudo stage2 eval figures ship)"
+  run_step "$s"
+done

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The shipped model: found without --model by infer, relight, pseudo-label and eval, at most 20 MB,
+# and trained (it reconstructs the example photos far better than untrained weights do).
+# Usage: shipped_model_test.sh FACETOOL SOURCE_DIR
+set -euo pipefail
+facetool=$1
+source_dir=$2
+model="$source_dir/models/facetool-v1.safetensors"
+[ -s "$model" ] || { echo "FAIL: $model missing"; exit 1; }
+bytes=$(stat -c %s "$model")
+[ "$bytes" -le 20000000 ] || { echo "FAIL: $model is $bytes bytes, over 20 MB"; exit 1; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+photos="$source_dir/examples/photos"
+
+# infer without --model equals infer with the shipped file.
+"$facetool" infer "$photos/astronaut.png" -o "$work/default" 2>/dev/null
+"$facetool" infer "$photos/astronaut.png" --model "$model" -o "$work/explicit" 2>/dev/null
+cmp -s "$work/default/astronaut/photo.exr" "$work/explicit/astronaut/photo.exr" ||
+  { echo "FAIL: infer without --model differs from --model $model"; exit 1; }
+[ -s "$work/default/astronaut/contact_sheet.png" ] || { echo "FAIL: no contact sheet"; exit 1; }
+
+# --model and --init together are refused.
+if "$facetool" infer "$photos/astronaut.png" --model "$model" --init random -o "$work/both" 2>"$work/err"; then
+  echo "FAIL: --model with --init accepted"; exit 1
+fi
+grep -q "not both" "$work/err" || { cat "$work/err"; exit 1; }
+
+# Quality: reconstruction PSNR in the face mask of the two example photos (eval on prepare-real
+# crops), shipped model against untrained weights of the same shape.
+"$facetool" prepare-real "$photos" --size 64 -o "$work/real" 2>/dev/null
+"$facetool" eval --data "$work/real" -o "$work/eval" >/dev/null 2>&1
+"$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
+[ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }
+psnr() { grep -o '"psnr_db_mean": *[-0-9.e+]*' "$1" | grep -o '[-0-9.e+]*$'; }
+trained=$(psnr "$work/eval/summary.json")
+echo "shipped model: mean PSNR on the example photos $trained dB"
+awk -v p="$trained" 'BEGIN { exit !(p >= 20) }' ||
+  { echo "FAIL: the shipped model reconstructs the example photos at $trained dB (< 20 dB)"; exit 1; }
+echo "shipped model: ok"
