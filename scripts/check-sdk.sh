@@ -4,7 +4,8 @@
 # from a copy outside the repository against that prefix alone (no include or link path into the
 # source or build tree) and runs their tests with the installed facetool; then cpack -G DEB,
 # unpacks facetool and facetool-dev into a clean root (dpkg -x) and runs its `facetool plugins`
-# without LD_LIBRARY_PATH.   usage: scripts/check-sdk.sh   (FACETOOL_JOBS: parallel jobs, 2)
+# without LD_LIBRARY_PATH, and (as root) again in a chroot holding only the runtime package and
+# the libraries it needs.   usage: scripts/check-sdk.sh   (FACETOOL_JOBS: parallel jobs, 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 src=$PWD
@@ -117,4 +118,29 @@ grep -q "file: $root/usr/\(bin/\.\./\)\?lib/facetool/plugins/sh_renderer.ftplugi
 env -u LD_LIBRARY_PATH "$root/usr/bin/facetool" backends > "$work/backends.txt" ||
   fail "the packaged facetool backends"
 step "packages $(basename "$runtime") and $(basename "$dev") unpacked and run"
+
+# 4b. As root: a chroot holding only the runtime package and the shared libraries it needs
+# (copied from this machine, as its Depends would install them), with /proc for the executable's
+# own path: facetool plugins inside it finds the shipped plugins, with no path to the host.
+if [ "$(id -u)" = 0 ] && command -v chroot > /dev/null && mountpoint -q /proc; then
+  jail=$work/jail
+  dpkg -x "$runtime" "$jail"
+  for elf in "$jail/usr/bin/facetool" "$jail"/usr/lib/facetool/plugins/*.so; do
+    ldd "$elf" | grep -o '/[^ ]*' | grep -v "^$jail" | while read -r lib; do
+      cp --parents -L -n "$lib" "$jail/"
+    done
+  done
+  mkdir -p "$jail/proc" "$jail/tmp"
+  mount -t proc proc "$jail/proc"
+  trap 'umount "$jail/proc" 2> /dev/null; rm -rf "$work"' EXIT
+  jailed=$(env -i PATH=/usr/bin "$(command -v chroot)" "$jail" /usr/bin/facetool plugins) ||
+    fail "facetool plugins does not run in a chroot holding only the package and its libraries"
+  umount "$jail/proc"
+  for name in sh_renderer paper_network paper_losses; do
+    grep -q "^  $name " <<<"$jailed" || { echo "$jailed"; fail "chroot: facetool plugins misses $name"; }
+  done
+  step "facetool plugins in a chroot of the package and its $(find "$jail" -name '*.so*' -path '*x86_64*' | wc -l) libraries"
+else
+  echo "check-sdk: not root (or no chroot, or no /proc): the chroot check is left out"
+fi
 echo "check-sdk: ok in $(($(date +%s) - start)) s"
