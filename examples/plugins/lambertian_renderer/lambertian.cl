@@ -67,9 +67,9 @@ void lb_forward_item(int item, LB_GLOBAL const float* albedo, LB_GLOBAL const fl
                      LB_GLOBAL const float* light, LB_GLOBAL const float* mask,
                      LB_GLOBAL float* image, LB_GLOBAL float* shading, int has_mask, int pixels) {
   const int n = item / pixels, p = item % pixels;
-  float u[3], c[9];
+  float u[3] = {0.0f, 0.0f, 0.0f}, c[9];
   const float length = lb_unit_normal(normal, mask, has_mask, n, p, pixels, u);
-  if (length > 0.0f) lb_cosine(u[0], u[1], u[2], c);
+  lb_cosine(u[0], u[1], u[2], c);
   for (int ch = 0; ch < 3; ++ch) {
     float s = 0.0f;
     if (length > 0.0f)
@@ -89,13 +89,11 @@ void lb_backward_item(int item, LB_GLOBAL const float* albedo, LB_GLOBAL const f
                       LB_GLOBAL float* d_albedo, LB_GLOBAL float* d_normal, int has_mask,
                       int pixels, int flags) {
   const int n = item / pixels, p = item % pixels;
-  float u[3], c[9], g[27];
+  float u[3] = {0.0f, 0.0f, 0.0f}, c[9], g[27];
   const float length = lb_unit_normal(normal, mask, has_mask, n, p, pixels, u);
   float du[3] = {0.0f, 0.0f, 0.0f};
-  if (length > 0.0f) {
-    lb_cosine(u[0], u[1], u[2], c);
-    lb_cosine_gradient(u[0], u[1], u[2], g);
-  }
+  lb_cosine(u[0], u[1], u[2], c);  // unused (length 0) where the pixel is not rendered
+  lb_cosine_gradient(u[0], u[1], u[2], g);
   for (int ch = 0; ch < 3; ++ch) {
     const int at = (n * 3 + ch) * pixels + p;
     float s = 0.0f;
