@@ -1,7 +1,8 @@
 // Checks of the example plugins through the installed SDK only: the L1 term against a plain
 // computation, the Lambertian renderer against its closed form, against sh_renderer with an
 // all-open visibility and against finite differences (cpu, and opencl where present), and the
-// compact network's outputs and light branch. usage: plugin_checks L1 LAMBERTIAN NETWORK SH_RENDERER
+// compact network's outputs and light branch.
+// usage: plugin_checks L1 LAMBERTIAN NETWORK SH_RENDERER
 #include <cmath>
 #include <cstdio>
 #include <memory>
