@@ -12,11 +12,11 @@ src=$PWD
 build=$src/build
 jobs=${FACETOOL_JOBS:-2}
 start=$(date +%s)
-[ -f "$build/build.ninja" ] || bash scripts/build.sh
-cmake --build "$build" -j "$jobs" > /dev/null
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "check-sdk: FAIL: $*" >&2; exit 1; }
+[ -f "$build/build.ninja" ] || bash scripts/build.sh
+cmake --build "$build" -j "$jobs" > "$work/build.log" || { cat "$work/build.log"; fail "building"; }
 step() { echo "check-sdk: $* ($(($(date +%s) - start)) s)"; }
 
 # 1. Install and layout.
