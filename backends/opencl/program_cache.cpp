@@ -11,7 +11,7 @@
 #include <iterator>
 #include <vector>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace facetool::opencl {

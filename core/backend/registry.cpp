@@ -13,10 +13,6 @@
 #include "core/util/error.h"
 #include "core/util/shared_library.h"
 
-#ifndef FACETOOL_MODULE_DIR
-#define FACETOOL_MODULE_DIR ""
-#endif
-
 namespace facetool {
 namespace {
 
@@ -48,7 +44,13 @@ std::vector<std::string> module_search_dirs() {
     dirs.push_back(exe);
     dirs.push_back(exe + "/../lib/facetool");
   }
-  if (std::string(FACETOOL_MODULE_DIR).size()) dirs.push_back(FACETOOL_MODULE_DIR);
+  // Beside libfacetool_core (the build tree's bin/) and in its facetool/ folder (an installed
+  // prefix's lib/facetool), for programs that do not live beside the modules.
+  const std::string core = core_library_dir();
+  if (!core.empty()) {
+    dirs.push_back(core);
+    dirs.push_back(core + "/facetool");
+  }
   // The same folder reached twice (FACETOOL_BACKEND_PATH pointing beside the executable) once.
   std::vector<std::string> unique;
   for (const std::string& d : dirs) {

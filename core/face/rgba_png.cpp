@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace facetool {

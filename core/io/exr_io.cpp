@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/image_encoding.h"
 #include "core/io/image_io.h"
 #include "core/util/error.h"

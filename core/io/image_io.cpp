@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/image_encoding.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/illumination_from_shading.h"
 #include "core/sh/sh_basis.h"

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 

@@ -1,11 +1,38 @@
 // The plugin ABI: the one extern "C" entry point every facetool plugin library exports.
 #pragma once
 
-#include <cstdint>
+#include <cstdint>  // also defines the standard library's ABI macros used below
 
 // Bumped whenever this descriptor or any plugin interface class (core/plugin/*_plugin.h)
 // changes; the loader refuses a plugin built for another version. History: docs/plugins.md.
-#define FACETOOL_PLUGIN_API_VERSION 2
+#define FACETOOL_PLUGIN_API_VERSION 3
+
+// The C++ ABI a plugin object crosses the library boundary with: the standard library and, for
+// libstdc++, its std::string/std::list ABI (_GLIBCXX_USE_CXX11_ABI). A plugin compiled for another
+// one is refused (docs/plugins.md, "ABI policy"). Compilers that share these (gcc and clang with
+// libstdc++) interoperate. A build may define it to test the refusal; never to hide a mismatch.
+#ifndef FACETOOL_PLUGIN_CXX_ABI
+#if defined(_LIBCPP_VERSION)
+#define FACETOOL_PLUGIN_CXX_ABI "libc++"
+#elif defined(__GLIBCXX__) && defined(_GLIBCXX_USE_CXX11_ABI) && _GLIBCXX_USE_CXX11_ABI
+#define FACETOOL_PLUGIN_CXX_ABI "libstdc++/cxx11"
+#elif defined(__GLIBCXX__)
+#define FACETOOL_PLUGIN_CXX_ABI "libstdc++/cxx98"
+#else
+#define FACETOOL_PLUGIN_CXX_ABI "unknown"
+#endif
+#endif
+
+// The compiler a plugin was built with, shown by `facetool plugins` and in refusals.
+#ifndef FACETOOL_PLUGIN_COMPILER
+#if defined(__clang__)
+#define FACETOOL_PLUGIN_COMPILER "clang " __clang_version__
+#elif defined(__GNUC__)
+#define FACETOOL_PLUGIN_COMPILER "gcc " __VERSION__
+#else
+#define FACETOOL_PLUGIN_COMPILER "unknown compiler"
+#endif
+#endif
 
 extern "C" {
 
@@ -26,6 +53,9 @@ struct facetool_plugin_descriptor {
   void* (*create)(void);
   // Destroys an object returned by create.
   void (*destroy)(void* object);
+  // Since version 3: FACETOOL_PLUGIN_CXX_ABI and FACETOOL_PLUGIN_COMPILER of the plugin's build.
+  const char* cxx_abi;
+  const char* compiler;
 };
 
 typedef const facetool_plugin_descriptor* (*facetool_plugin_entry_fn)(void);
@@ -48,6 +78,7 @@ typedef const facetool_plugin_descriptor* (*facetool_plugin_entry_fn)(void);
             return nullptr;                                                                   \
           }                                                                                   \
         },                                                                                    \
-        [](void* object) { delete static_cast<facetool::Plugin*>(object); }};                 \
+        [](void* object) { delete static_cast<facetool::Plugin*>(object); },                  \
+        FACETOOL_PLUGIN_CXX_ABI, FACETOOL_PLUGIN_COMPILER};                                   \
     return &descriptor;                                                                       \
   }

@@ -25,6 +25,12 @@ PluginInfo validate_plugin_descriptor(const facetool_plugin_descriptor* descript
         " was built for facetool plugin API version ", descriptor->api_version,
         ", but this facetool uses version ", FACETOOL_PLUGIN_API_VERSION,
         "; rebuild the plugin against this facetool's SDK");
+  // Same layout from here on: the C++ ABI must match before any object crosses the boundary.
+  const std::string cxx_abi = text_or_empty(descriptor->cxx_abi);
+  check(cxx_abi == FACETOOL_PLUGIN_CXX_ABI, path, " was built for the C++ ABI '",
+        cxx_abi.empty() ? "unrecorded" : cxx_abi, "' (", text_or_empty(descriptor->compiler),
+        "), but this facetool uses '", FACETOOL_PLUGIN_CXX_ABI, "' (", FACETOOL_PLUGIN_COMPILER,
+        "); rebuild the plugin with a compiler and standard library of that ABI");
 
   const std::string name = text_or_empty(descriptor->name);
   check(!name.empty(), "plugin file '", path,
@@ -42,6 +48,7 @@ PluginInfo validate_plugin_descriptor(const facetool_plugin_descriptor* descript
   info.version = text_or_empty(descriptor->version);
   info.kind = descriptor->kind;
   info.description = text_or_empty(descriptor->description);
+  info.compiler = text_or_empty(descriptor->compiler);
   info.descriptor = descriptor;
   return info;
 }

@@ -19,6 +19,7 @@ struct PluginInfo {
   std::string version;
   uint32_t kind = 0;
   std::string description;
+  std::string compiler;  // the compiler the plugin was built with (FACETOOL_PLUGIN_COMPILER)
   const facetool_plugin_descriptor* descriptor = nullptr;
 };
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace facetool {

@@ -1,4 +1,4 @@
-// Equirectangular environment maps (HDR/EXR, read with OpenImageIO) projected to 27 SH coefficients.
+// Equirectangular environment maps projected to 27 SH coefficients (files: core/light).
 #pragma once
 
 #include <string>
@@ -16,11 +16,6 @@ struct EnvironmentMap {
   std::vector<float> rgb;
 };
 
-// Reads an image OpenImageIO understands (Radiance .hdr, OpenEXR, ...). One channel is used as
-// grey; with three or more the first three are R, G, B (alpha is ignored). Throws
-// facetool::Error naming the file when it cannot be read or has two channels.
-EnvironmentMap read_environment_map(const std::string& path);
-
 // Panorama coordinates to world directions. World frame: right-handed, +Y up, the camera at +Z
 // looking down -Z (so +X is the viewer's right). u in [0, 1] runs left to right across the
 // columns, v in [0, 1] top to bottom across the rows:
@@ -37,6 +32,5 @@ Vec3 equirect_direction(double u, double v);
 // with a 2 x 2 Gauss-Legendre rule in (cos theta, phi) inside the pixel; a constant map thus
 // gives L_0 = 2 sqrt(pi) (and zero elsewhere) to rounding. Output channel-major R0..R8 G0..B8.
 RgbLight project_environment_map(const EnvironmentMap& map);
-RgbLight project_environment_map_file(const std::string& path);
 
 }  // namespace facetool::sh

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/light/environment_map_file.h"
 #include "core/light/light_formats.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_basis.h"

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <thread>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/synth/contact_sheet.h"
 #include "core/util/error.h"
 

@@ -34,6 +34,15 @@ std::string executable_dir() {
   return exe.parent_path().string();
 }
 
+std::string core_library_dir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&core_library_dir), &info) == 0 || !info.dli_fname) return "";
+  std::error_code ec;
+  const auto path = std::filesystem::canonical(info.dli_fname, ec);
+  if (ec) return "";
+  return path.parent_path().string();
+}
+
 std::vector<std::string> split_path_list(const std::string& list) {
   std::vector<std::string> parts;
   size_t start = 0;

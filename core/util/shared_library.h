@@ -23,6 +23,9 @@ class SharedLibrary {
 
 // The folder holding the running executable ("" if it cannot be determined).
 std::string executable_dir();
+// The folder holding libfacetool_core itself ("" if it cannot be determined): backend modules are
+// found relative to it, so a build tree and an installed prefix need no configured paths.
+std::string core_library_dir();
 // Splits a ':'-separated list such as an environment variable's value; empty parts are dropped.
 std::vector<std::string> split_path_list(const std::string& list);
 // Regular files in `dir` whose names end with `suffix`, sorted; empty if `dir` does not exist.

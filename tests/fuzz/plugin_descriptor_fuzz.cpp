@@ -1,8 +1,9 @@
 // libFuzzer target: the checks the plugin loader applies to a descriptor after dlopen, fed
 // descriptors built from fuzz bytes; what passes must be exactly what the ABI promises.
 // Input: byte 0 holds flags (bit 0: a wrong API version taken from bytes 2..5; bits 1..3: null
-// name/version/description; bits 4..5: null create/destroy), byte 1 the kind, and the bytes after
-// the header are split at '\0' into name, version and description.
+// name/version/description; bits 4..5: null create/destroy; bit 6: another C++ ABI; bit 7: no
+// compiler), byte 1 the kind, and the bytes after the header are split at '\0' into name, version
+// and description.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -38,6 +39,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   d.description = (flags & 8) ? nullptr : texts[2].c_str();
   d.create = (flags & 16) ? nullptr : create_nothing;
   d.destroy = (flags & 32) ? nullptr : destroy_nothing;
+  d.cxx_abi = (flags & 64) ? "libc++-of-another-world" : FACETOOL_PLUGIN_CXX_ABI;
+  d.compiler = (flags & 128) ? nullptr : FACETOOL_PLUGIN_COMPILER;
 
   using facetool::fuzz::require;
   try {
@@ -48,6 +51,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 info.kind == FACETOOL_PLUGIN_RENDERER,
             "accepted an unknown kind");
     require(d.create != nullptr && d.destroy != nullptr, "accepted missing create/destroy");
+    require(!(flags & 64), "accepted another C++ ABI");
     require(info.version == (d.version ? d.version : "") &&
                 info.description == (d.description ? d.description : ""),
             "version or description not kept");

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"

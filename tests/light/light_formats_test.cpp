@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <string>
+
+#include <unistd.h>
 
 #include "core/light/light_formats.h"
 #include "core/sh/clamped_cosine.h"
@@ -35,8 +38,12 @@ double facetool_shading(const sh::RgbLight& light, int channel, const sh::Vec3& 
   return s / kPi;
 }
 
+// One folder per test and process: CTest runs these tests in parallel (and other checkouts may
+// run them at the same time), and each test removes its folder at the end.
 std::filesystem::path temp_dir() {
-  auto dir = std::filesystem::temp_directory_path() / "facetool_light_test";
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  auto dir = std::filesystem::temp_directory_path() /
+             ("facetool_light_test_" + test + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir;
 }

@@ -91,6 +91,35 @@ TEST(PluginLoader, WrongApiVersionIsRefusedWithBothVersions) {
   EXPECT_TRUE(loader.plugins().empty());
 }
 
+TEST(PluginLoader, OlderApiVersionIsRefusedWithBothVersions) {
+  PluginLoader loader = loader_over({});
+  const std::string file = plugin_file("old_version");
+  const std::string message = error_text([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "API version " + std::to_string(FACETOOL_PLUGIN_API_VERSION - 1)))
+      << message;
+  EXPECT_TRUE(contains(message, "version " + std::to_string(FACETOOL_PLUGIN_API_VERSION)))
+      << message;
+  EXPECT_TRUE(loader.plugins().empty());
+}
+
+TEST(PluginLoader, AnotherCxxAbiIsRefusedWithBothAbis) {
+  PluginLoader loader = loader_over({});
+  const std::string file = plugin_file("other_abi");
+  const std::string message = error_text([&] { loader.load_file(file); });
+  EXPECT_TRUE(contains(message, file)) << message;
+  EXPECT_TRUE(contains(message, "C++ ABI 'libc++'")) << message;
+  EXPECT_TRUE(contains(message, "clang 99.0 (a test's pretence)")) << message;
+  EXPECT_TRUE(contains(message, std::string("'") + FACETOOL_PLUGIN_CXX_ABI + "'")) << message;
+  EXPECT_TRUE(loader.plugins().empty());
+}
+
+TEST(PluginLoader, RecordsTheCompilerOfAPlugin) {
+  PluginLoader loader = loader_over({});
+  const PluginInfo& info = loader.load_file(plugin_file("good_loss"));
+  EXPECT_EQ(info.compiler, FACETOOL_PLUGIN_COMPILER);
+}
+
 TEST(PluginLoader, MissingFileIsAClearError) {
   PluginLoader loader = loader_over({});
   const std::string file = kPluginDir + "/does_not_exist" FACETOOL_PLUGIN_FILE_SUFFIX;
@@ -167,8 +196,9 @@ TEST(PluginLoader, DiscoverLoadsTheGoodOnesAndReportsTheProblems) {
   EXPECT_EQ(names, (std::vector<std::string>{"null_create", "test_loss"}));
 
   const std::vector<std::string>& problems = loader.problems();
-  ASSERT_EQ(problems.size(), 4u);
-  for (const char* broken : {"no_entry", "second_good_loss", "unknown_kind", "wrong_version"}) {
+  ASSERT_EQ(problems.size(), 6u);
+  for (const char* broken : {"no_entry", "second_good_loss", "unknown_kind", "wrong_version",
+                             "old_version", "other_abi"}) {
     const std::string file = plugin_file(broken);
     const bool reported = std::any_of(problems.begin(), problems.end(), [&](const std::string& p) {
       return contains(p, file);
@@ -179,7 +209,7 @@ TEST(PluginLoader, DiscoverLoadsTheGoodOnesAndReportsTheProblems) {
   // Discovering again changes nothing.
   loader.discover();
   EXPECT_EQ(loader.plugins().size(), 2u);
-  EXPECT_EQ(loader.problems().size(), 4u);
+  EXPECT_EQ(loader.problems().size(), 6u);
 }
 
 TEST(PluginLoader, FindListsTheAvailablePlugins) {

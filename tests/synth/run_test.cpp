@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/image_io.h"
 #include "core/synth/synth_runner.h"
 #include "core/util/error.h"

@@ -14,7 +14,7 @@
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
 #include "core/inference/decomposer.h"
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/image_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/gbuffer.h"

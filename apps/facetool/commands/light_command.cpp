@@ -11,7 +11,7 @@
 #include "apps/facetool/commands/light_rotation.h"
 #include "core/light/light_formats.h"
 #include "core/light/light_preview.h"
-#include "core/sh/envmap_projection.h"
+#include "core/light/environment_map_file.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_rotation.h"
 

@@ -50,7 +50,8 @@ int run_plugins(CommandContext& context, const std::vector<std::string>& args) {
     std::cout << "  " << info.name << ' ' << info.version << "  [" << plugin_kind_name(info.kind)
               << "]\n"
               << "      " << info.description << '\n'
-              << "      file: " << info.path << '\n';
+              << "      file: " << info.path << '\n'
+              << "      built with: " << (info.compiler.empty() ? "?" : info.compiler) << '\n';
   }
 
   if (!problems.empty()) {

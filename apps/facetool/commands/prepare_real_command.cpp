@@ -12,7 +12,7 @@
 #include "core/face/face_crops.h"
 #include "core/face/photo_reader.h"
 #include "core/face/real_sample.h"
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/synth/synth_sample.h"
 #include "core/util/progress_bar.h"

@@ -17,7 +17,7 @@
 #include "core/face/face_detector.h"
 #include "core/light/light_formats.h"
 #include "core/relight/animated_gif.h"
-#include "core/sh/envmap_projection.h"
+#include "core/light/environment_map_file.h"
 #include "core/sh/sh_rotation.h"
 #include "core/util/progress_bar.h"
 

@@ -10,7 +10,7 @@
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/commands/output_option.h"
 #include "core/backend/registry.h"
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"

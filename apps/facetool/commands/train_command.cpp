@@ -12,7 +12,7 @@
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
 #include "core/distributed/communicator.h"
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/model/network_weights.h"
 #include "core/train/loss_curve.h"
 #include "core/train/trainer.h"

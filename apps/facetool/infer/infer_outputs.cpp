@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/light/light_formats.h"

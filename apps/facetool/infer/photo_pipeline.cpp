@@ -17,7 +17,7 @@
 #include "core/face/paste_back.h"
 #include "core/face/photo_reader.h"
 #include "core/face/rgba_png.h"
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/util/error.h"
 #include "core/util/progress_bar.h"

@@ -8,7 +8,8 @@ void destroy_nothing(void*) {}
 
 const facetool_plugin_descriptor kDescriptor = {
     FACETOOL_PLUGIN_API_VERSION, "null_create",  "1.0.0", FACETOOL_PLUGIN_RENDERER,
-    "a plugin whose create fails", create_nothing, destroy_nothing};
+    "a plugin whose create fails", create_nothing, destroy_nothing,
+    FACETOOL_PLUGIN_CXX_ABI, FACETOOL_PLUGIN_COMPILER};
 
 }  // namespace
 

@@ -8,7 +8,8 @@ void destroy_nothing(void*) {}
 
 const facetool_plugin_descriptor kDescriptor = {
     FACETOOL_PLUGIN_API_VERSION, "unknown_kind", "1.0.0", 99u,
-    "a plugin of an unknown kind", create_nothing, destroy_nothing};
+    "a plugin of an unknown kind", create_nothing, destroy_nothing,
+    FACETOOL_PLUGIN_CXX_ABI, FACETOOL_PLUGIN_COMPILER};
 
 }  // namespace
 

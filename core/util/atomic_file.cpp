@@ -1,5 +1,5 @@
 // Atomic file writing (temporary file in the target folder, then rename) and clean-up.
-#include "core/io/atomic_file.h"
+#include "core/util/atomic_file.h"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -1,0 +1,44 @@
+// Writing files so that a reader never sees a half-written one: temporary name, then rename.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace facetool {
+
+// A fresh temporary path beside `path`: "<path>.tmp-<pid>-<counter>" (unique per call).
+std::string temporary_path_for(const std::string& path);
+// Renames `temporary` over `path` (atomic on one file system); on failure removes the temporary
+// and throws facetool::Error.
+void commit_temporary(const std::string& temporary, const std::string& path);
+
+// Calls write(temporary) with a temporary_path_for(final_path), then renames it to final_path.
+// If write throws, the temporary is removed and the exception propagates.
+void write_atomically(const std::string& final_path,
+                      const std::function<void(const std::string& temporary)>& write);
+// Writes `size` bytes atomically: every write, the fsync and the close are checked, and only
+// then is the temporary renamed over `path`. On failure `path` is untouched, the temporary is
+// removed, and facetool::Error names `path`, the OS reason and what to do.
+void write_file_atomically(const std::string& path, const void* data, size_t size);
+// A file's final path and its whole contents.
+struct FileContents {
+  std::string path;
+  std::vector<unsigned char> bytes;
+};
+// Writes several files that belong together: every temporary is written and checked first, and
+// only when all succeeded are they renamed; on failure none of the paths is touched.
+void write_files_atomically(const std::vector<FileContents>& files);
+// The same for text (light files, manifests, JSON).
+void write_text_atomically(const std::string& path, const std::string& text);
+// What to do after a write failed with errno `error` (" (the disk is full: ...)").
+std::string write_failure_advice(int error);
+
+// True for names temporary_path_for produces.
+bool is_temporary_file_name(const std::string& file_name);
+// Removes leftover temporaries of interrupted runs in `directory` (those whose process is gone;
+// files of running processes, e.g. other shards writing there, are left alone). Returns how many.
+int remove_stale_temporary_files(const std::string& directory);
+
+}  // namespace facetool
