@@ -38,6 +38,15 @@ if grep -rl -e "$src" "$prefix/lib/cmake" "$prefix/lib/pkgconfig"; then
 fi
 step "installed into a temporary prefix"
 
+# The installed program finds its shipped model (share/facetool/models) without --model.
+if [ -e models/facetool-v1.safetensors ]; then
+  [ -e "$prefix/share/facetool/models/facetool-v1.safetensors" ] || fail "the shipped model is not installed"
+  "$prefix/bin/facetool" infer examples/photos/astronaut.png -o "$work/installed-infer" 2> "$work/infer.log" ||
+    { cat "$work/infer.log"; fail "the installed facetool could not decompose an example photo with its model"; }
+  [ -s "$work/installed-infer/astronaut/contact_sheet.png" ] || fail "installed infer wrote no contact sheet"
+  step "the installed facetool decomposes a photo with the shipped model"
+fi
+
 # 2. Every public header alone, with the flags of pkg-config; a program linked by them.
 cflags=$(PKG_CONFIG_PATH=$prefix/lib/pkgconfig pkg-config --cflags facetool)
 libs=$(PKG_CONFIG_PATH=$prefix/lib/pkgconfig pkg-config --libs facetool)

@@ -79,7 +79,8 @@ TEST_F(InferTest, CorruptWeightsAreRefused) {
   std::ofstream(path("bad.safetensors")) << "not a safetensors file at all";
   EXPECT_NE(run(path("a.png") + " --model " + path("bad.safetensors") + " -o " + path("o2")), 0);
   EXPECT_FALSE(fs::exists(path("o2")));
-  EXPECT_EQ(run(path("a.png") + " -o " + path("o3")), 2);  // neither --model nor --init: usage
+  // --model and --init together: usage (without either, the shipped model: shipped_model_test.sh).
+  EXPECT_EQ(run(path("a.png") + " --model " + path("bad.safetensors") + " --init random -o " + path("o3")), 2);
 }
 
 }  // namespace
