@@ -190,7 +190,14 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       const std::string text =
           format_progress(label.str(), trainer.steps_done() - first, config.steps - first, elapsed, "step");
       std::cerr << "\r" << text << " " << static_cast<double>(images) / std::max(elapsed, 1e-9)
-                << " img/s" << std::flush;
+                << " img/s";
+      if (time_limit_minutes > 0) {
+        const int left = static_cast<int>(std::max(0.0, time_limit_minutes * 60.0 - elapsed));
+        char clock[32];
+        std::snprintf(clock, sizeof clock, " (time limit in %d:%02d)", left / 60, left % 60);
+        std::cerr << clock;
+      }
+      std::cerr << std::flush;
       last_draw = elapsed;
     }
     // A signal may reach the ranks at different steps: all stop at the step any rank saw it.
