@@ -10,6 +10,10 @@
 # in this sitting or another one. Each step's wall time on this machine lands in
 # $WORK/timings.tsv; docs/model-card.md quotes them.
 #
+# Measured here for the shipped model (2026-12-02, a 2-core AMD EPYC VM shared with builds and
+# tests): lights 0 s, synth 53 min, real 8 min, width-trials 17 min, stage1 36 min (3,675 steps),
+# pseudo 3 min, stage2 20 min (978 steps), eval + figures + ship 1 min: 2 h 18 min in all.
+#
 # Environment: FACETOOL (the program, default build/bin/facetool), SHARED (default ../shared:
 # the ICT-FaceKit model, the HDRIs and the UTKFace photos), WORK (default data/train-model,
 # where everything but the shipped weights goes: about 2.5 GB), SITTING_MINUTES (a time limit
