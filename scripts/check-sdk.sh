@@ -141,7 +141,7 @@ if [ "$(id -u)" = 0 ] && command -v chroot > /dev/null && mountpoint -q /proc; t
   done
   mkdir -p "$jail/proc" "$jail/tmp"
   mount -t proc proc "$jail/proc"
-  trap 'umount "$jail/proc" 2> /dev/null; rm -rf "$work"' EXIT
+  trap 'umount "$jail/proc" 2> /dev/null || true; rm -rf "$work"' EXIT
   jailed=$(env -i PATH=/usr/bin "$(command -v chroot)" "$jail" /usr/bin/facetool plugins) ||
     fail "facetool plugins does not run in a chroot holding only the package and its libraries"
   umount "$jail/proc"
