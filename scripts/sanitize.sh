@@ -21,7 +21,7 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFACETOOL_BUI
 # The subset: every parser (with the fuzz replays), the plugin loader and its broken plugins, the
 # SH library, autograd, the cpu backend's bad-input checks, the renderer plugin, synth sample I/O
 # and errors, the dataset reader, inference and the command line.
-subset_targets=(facetool sh_renderer paper_network
+subset_targets=(facetool facetool_models sh_renderer paper_network
   good_loss second_good_loss null_create wrong_version no_entry unknown_kind old_version other_abi
   safetensors_test light_formats_test plugin_loader_test sh_tests autograd_test cpu_bad_input_test
   renderer_tests synth_io_test synth_errors_test synth_dataset_test infer_test light_cli_test

@@ -15,7 +15,8 @@ trap 'rm -rf "$work"' EXIT
 photos="$source_dir/examples/photos"
 
 # infer without --model equals infer with the shipped file.
-"$facetool" infer "$photos/astronaut.png" -o "$work/default" 2>/dev/null
+"$facetool" infer "$photos/astronaut.png" -o "$work/default" 2>"$work/err" ||
+  { cat "$work/err"; echo "FAIL: infer without --model"; exit 1; }
 "$facetool" infer "$photos/astronaut.png" --model "$model" -o "$work/explicit" 2>/dev/null
 cmp -s "$work/default/astronaut/photo.exr" "$work/explicit/astronaut/photo.exr" ||
   { echo "FAIL: infer without --model differs from --model $model"; exit 1; }
