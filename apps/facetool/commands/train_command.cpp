@@ -201,17 +201,16 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       last_draw = elapsed;
     }
     // A signal may reach the ranks at different steps: all stop at the step any rank saw it.
-    std::vector<double> stop{static_cast<double>(g_stop_signal.load())};
+    // The time limit goes by rank 0's clock, so that every rank stops after the same step. One
+    // sum carries both.
+    const bool late = writer && time_limit_minutes > 0 && elapsed >= time_limit_minutes * 60.0;
+    std::vector<double> stop{static_cast<double>(g_stop_signal.load()), late ? 1.0 : 0.0};
     comm->allreduce_sum(stop);
     if (stop[0] != 0) {
       exit_code = 128 + (g_stop_signal.load() != 0 ? g_stop_signal.load() : SIGTERM);
       break;
     }
-    // Rank 0's clock decides, so that every rank stops after the same step.
-    std::vector<double> late{time_limit_minutes > 0 && elapsed >= time_limit_minutes * 60.0 ? 1.0 : 0.0};
-    if (!writer) late[0] = 0;
-    comm->allreduce_sum(late);
-    if (late[0] != 0 && trainer.steps_done() < config.steps) {
+    if (stop[1] != 0 && trainer.steps_done() < config.steps) {
       out_of_time = true;
       break;
     }
