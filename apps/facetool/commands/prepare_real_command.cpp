@@ -8,7 +8,7 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
-#include "apps/facetool/infer/photo_pipeline.h"
+#include "apps/facetool/infer/photo_options.h"
 #include "core/face/face_crops.h"
 #include "core/face/photo_reader.h"
 #include "core/face/real_sample.h"

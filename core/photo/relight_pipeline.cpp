@@ -1,5 +1,5 @@
 // `facetool relight` on photos: decompose each face once, then per new light render and paste back.
-#include "apps/facetool/relight/relight_pipeline.h"
+#include "core/photo/relight_pipeline.h"
 
 #include <algorithm>
 

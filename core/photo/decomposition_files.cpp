@@ -1,5 +1,5 @@
 // Per-image output files of `facetool infer` and the rows of its contact sheet.
-#include "apps/facetool/infer/infer_outputs.h"
+#include "core/photo/decomposition_files.h"
 
 #include <cmath>
 #include <filesystem>

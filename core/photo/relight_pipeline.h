@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/facetool/infer/photo_pipeline.h"
+#include "core/photo/photo_pipeline.h"
 #include "core/face/face_crops.h"
 #include "core/face/paste_back.h"
 #include "core/relight/relight_math.h"

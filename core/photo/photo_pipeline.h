@@ -1,12 +1,10 @@
-// `facetool infer` on whole photos: detection, alignment, the network on each face's crop, and
-// everything pasted back at the photo's resolution (docs/photos.md).
+// Whole photos: detection, alignment, the network on each face's crop, and everything pasted back
+// at the photo's resolution (docs/photos.md).
 #pragma once
 
-#include <boost/program_options.hpp>
 #include <string>
 #include <vector>
 
-#include "apps/facetool/commands/command_options.h"
 #include "core/backend/backend.h"
 #include "core/face/face_detector.h"
 #include "core/inference/decomposer.h"
@@ -22,13 +20,6 @@ struct PhotoInferOptions {
   bool contact_sheet = true;
   int batch = 8;
 };
-
-// The photo options of `infer` (also used by prepare-real for the detection ones).
-void add_photo_detection_options(boost::program_options::options_description& options);
-void add_photo_infer_options(boost::program_options::options_description& options);
-// Valid ranges of the detection and paste-back options (for check_option_ranges).
-std::vector<OptionRange> photo_option_ranges();
-PhotoInferOptions photo_options_from(const boost::program_options::variables_map& values);
 
 // PHOTO|DIR arguments as photo files: a folder gives its image files (by extension, sorted, not
 // recursive). Throws facetool::Error for a path that is neither.

@@ -1,0 +1,49 @@
+// The photo options of `infer`, `relight` and `prepare-real`: detection, landmarks, paste-back.
+#include "apps/facetool/infer/photo_options.h"
+
+#include "core/util/error.h"
+
+namespace po = boost::program_options;
+
+namespace facetool {
+
+void add_photo_detection_options(po::options_description& options) {
+  options.add_options()
+      ("max-faces", po::value<int>()->default_value(0), "keep at most this many faces per photo, best detection score first (0: all)")
+      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8))")
+      ("min-score", po::value<double>()->default_value(0.25), "detection score (HOG margin) below which a box is not a face")
+      ("landmark-model", po::value<std::string>()->default_value(kDefaultLandmarkModel),
+       "dlib 68-point shape predictor (Debian libdlib-data; trained on iBUG 300-W: research use only, no commercial use)")
+      ("forehead", "extend the landmarks' convex hull over the forehead (docs/photos.md)");
+}
+
+void add_photo_infer_options(po::options_description& options) {
+  add_photo_detection_options(options);
+  options.add_options()
+      ("feather", po::value<double>()->default_value(3.0), "width of the blend at the mask's edge, crop pixels")
+      ("transparent", "photo-level PNGs transparent outside the faces (default: the input photo there)");
+}
+
+std::vector<OptionRange> photo_option_ranges() {
+  return {{"max-faces", 0, 10000},
+          {"min-face-size", 0, 1e6},
+          {"min-score", -10, 10},
+          {"feather", 0, 256}};
+}
+
+PhotoInferOptions photo_options_from(const po::variables_map& values) {
+  PhotoInferOptions o;
+  o.detection.max_faces = values["max-faces"].as<int>();
+  o.detection.min_face_size = values["min-face-size"].as<double>();
+  o.detection.score_threshold = values["min-score"].as<double>();
+  o.landmark_model = values["landmark-model"].as<std::string>();
+  o.extend_forehead = values.count("forehead") > 0;
+  if (values.count("feather")) o.feather = values["feather"].as<double>();
+  o.transparent = values.count("transparent") > 0;
+  if (o.detection.max_faces < 0) fail("--max-faces must be 0 (all) or more");
+  if (o.detection.min_face_size < 0) fail("--min-face-size must be 0 (automatic) or more");
+  if (o.feather < 0) fail("--feather must be 0 or more");
+  return o;
+}
+
+}  // namespace facetool
