@@ -4,10 +4,9 @@
 #include <string>
 #include <vector>
 
-namespace facetool {
+#include "core/io/sample_files.h"
 
-// generator_version of real samples (facetool prepare-real, facetool pseudo-label).
-constexpr const char* kRealSampleVersion = "facetool-real-1";
+namespace facetool {
 
 // Planar [channels][height * width]. Real samples without labels have `labelled` false and
 // albedo, normal, visibility and light filled with zeros.

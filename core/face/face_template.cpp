@@ -2,6 +2,8 @@
 // ICT-FaceKit/FaceXModel` (neutral ICT face, zero pose, synth framing, 22.5-degree camera).
 #include "core/face/face_template.h"
 
+#include <cstdio>
+
 namespace facetool {
 
 const Landmarks68& canonical_template_units() {
@@ -84,6 +86,16 @@ Landmarks68 canonical_template(int crop_size) {
   for (int i = 0; i < kLandmarkCount; ++i)
     out[i] = {units[i].x * crop_size - 0.5, units[i].y * crop_size - 0.5};
   return out;
+}
+
+std::string template_table_source(const Landmarks68& landmarks) {
+  std::string s;
+  char line[96];
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    std::snprintf(line, sizeof line, "    {%.6f, %.6f},  // %d\n", landmarks[i].x, landmarks[i].y, i);
+    s += line;
+  }
+  return s;
 }
 
 }  // namespace facetool

@@ -8,8 +8,6 @@
 
 namespace facetool {
 
-const char* const kRealGeneratorVersion = "facetool-real-1";
-
 namespace {
 std::string number(double v) {
   char text[40];
@@ -29,7 +27,7 @@ LayeredImage real_sample_image(const FaceCrop& crop, const std::string& source, 
     landmarks += (landmarks.empty() ? "" : " ") + number(p.x) + " " + number(p.y);
   const Similarity2& t = crop.alignment.photo_to_crop;
   for (double v : {t.a, -t.b, t.tx, t.b, t.a, t.ty}) transform += (transform.empty() ? "" : " ") + number(v);
-  image.set_metadata("facetool:generator_version", kRealGeneratorVersion);
+  image.set_metadata("facetool:generator_version", kRealSampleVersion);
   image.set_metadata("facetool:source", source);
   image.set_metadata("facetool:landmarks", landmarks);
   image.set_metadata("facetool:transform", transform);
@@ -43,7 +41,7 @@ std::string read_real_sample_source(const std::string& path) {
     const LayeredImage header = read_exr_header(path, "facetool:");
     const std::string* version = header.find_metadata("facetool:generator_version");
     const std::string* source = header.find_metadata("facetool:source");
-    if (!version || *version != kRealGeneratorVersion || !source) return "";
+    if (!version || *version != kRealSampleVersion || !source) return "";
     return *source;
   } catch (const Error&) {
     return "";

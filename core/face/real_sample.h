@@ -6,11 +6,9 @@
 
 #include "core/face/face_crops.h"
 #include "core/io/layered_image.h"
+#include "core/io/sample_files.h"
 
 namespace facetool {
-
-// Stored in every real sample as facetool:generator_version.
-extern const char* const kRealGeneratorVersion;  // "facetool-real-1"
 
 // The sample of `crop`: channels R G B (the aligned crop, linear) and mask (1 inside the face
 // mask); attributes facetool:generator_version, facetool:source (`source`), facetool:landmarks

@@ -76,4 +76,23 @@ void write_png_atomically(const std::string& path, const RgbImage& rgb, bool enc
   write_file_atomically(path, encoded.data(), encoded.size());
 }
 
+RgbImage rgb_from_planar(const float* planar, int width, int height) {
+  RgbImage image;
+  image.width = width;
+  image.height = height;
+  const size_t plane = static_cast<size_t>(width) * height;
+  image.pixels.resize(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = planar[c * plane + p];
+  return image;
+}
+
+std::vector<float> planar_from_rgb(const RgbImage& image) {
+  const size_t plane = static_cast<size_t>(image.width) * image.height;
+  std::vector<float> planar(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) planar[c * plane + p] = image.pixels[p * 3 + c];
+  return planar;
+}
+
 }  // namespace facetool

@@ -19,6 +19,11 @@ struct RgbImage {
   }
 };
 
+// The one conversion between interleaved RGB and planar [3][width*height] values (rows top to
+// bottom): `planar` holds 3 planes of width * height.
+RgbImage rgb_from_planar(const float* planar, int width, int height);
+std::vector<float> planar_from_rgb(const RgbImage& image);
+
 // Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped.
 // Values are as stored: linear radiance for HDR/EXR; for 8-bit formats (sRGB-encoded) pass
 // `decode_srgb` to convert them to linear. Throws facetool::Error naming the file, also for

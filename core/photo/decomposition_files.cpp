@@ -1,4 +1,4 @@
-// Per-image output files of `facetool infer` and the rows of its contact sheet.
+// Per-crop output files of `facetool infer` and the rows of its contact sheet.
 #include "core/photo/decomposition_files.h"
 
 #include <cmath>
@@ -10,22 +10,15 @@
 #include "core/light/light_formats.h"
 #include "core/light/light_preview.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Planar channels [c0, c0 + 3) of image `index` (channels per image `per_image`) as interleaved RGB.
 RgbImage planar_to_rgb(const std::vector<float>& planar, int index, int per_image, int c0, int s) {
-  RgbImage img;
-  img.width = img.height = s;
-  img.pixels.resize(static_cast<size_t>(s) * s * 3);
   const size_t plane = static_cast<size_t>(s) * s;
-  const float* base = planar.data() + static_cast<size_t>(index) * per_image * plane;
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = base[(c0 + c) * plane + p];
-  return img;
+  return rgb_from_planar(planar.data() + (static_cast<size_t>(index) * per_image + c0) * plane, s, s);
 }
 
 RgbImage map_pixels(RgbImage img, float (*f)(float)) {

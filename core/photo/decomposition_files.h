@@ -1,4 +1,4 @@
-// Files `facetool infer` writes per image, and the contact sheet that shows them side by side.
+// Files `facetool infer` writes per face crop, and the contact sheet that shows them side by side.
 #pragma once
 
 #include <string>

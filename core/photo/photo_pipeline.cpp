@@ -1,33 +1,18 @@
-// The photo path of `facetool infer`: per photo, detect, align, decompose, paste back, write.
+// The photo pipeline in memory: detect, align, decompose every face, paste the layers back.
 #include "core/photo/photo_pipeline.h"
 
 #include <algorithm>
-#include <cmath>
+#include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <iostream>
-#include <map>
-#include <sstream>
 
-#include "core/photo/decomposition_files.h"
-#include "core/face/face_crops.h"
 #include "core/face/frame_rotation.h"
-#include "core/face/landmark_drawing.h"
-#include "core/face/paste_back.h"
 #include "core/face/photo_reader.h"
-#include "core/face/rgba_png.h"
-#include "core/util/atomic_file.h"
-#include "core/io/exr_io.h"
 #include "core/util/error.h"
-#include "core/util/progress_bar.h"
 
 namespace fs = std::filesystem;
 
 namespace facetool {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool is_photo_file(const fs::path& path) {
   std::string ext = path.extension().string();
@@ -39,202 +24,107 @@ bool is_photo_file(const fs::path& path) {
 
 }  // namespace
 
-// Runs the decomposer over `count` crops in batches and concatenates the results.
-Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
-                            int count, int size, int batch) {
-  Decomposition all;
-  const size_t plane = static_cast<size_t>(size) * size;
-  for (int first = 0; first < count; first += batch) {
-    const int n = std::min(batch, count - first);
-    const std::vector<float> part(crops.begin() + first * 3 * plane, crops.begin() + (first + n) * 3 * plane);
-    Decomposition d = decomposer.run(backend, part, n);
-    all.size = d.size;
-    all.count += n;
-    auto append = [](std::vector<float>& to, const std::vector<float>& from) {
-      to.insert(to.end(), from.begin(), from.end());
-    };
-    append(all.albedo, d.albedo);
-    append(all.normal, d.normal);
-    append(all.visibility, d.visibility);
-    append(all.light, d.light);
-    append(all.shading, d.shading);
-    append(all.reconstruction, d.reconstruction);
-  }
-  return all;
+std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size) {
+  const size_t size = static_cast<size_t>(channels) * crop_size * crop_size;
+  check((static_cast<size_t>(k) + 1) * size <= all.size(), "face ", k, " is not in the decomposition");
+  return std::vector<float>(all.begin() + k * size, all.begin() + (k + 1) * size);
 }
 
-namespace {
-
-// Photo-resolution planar layers, premultiplied by the faces' coverage `alpha`.
-struct PastedLayers {
-  int width = 0, height = 0;
-  std::vector<float> alpha, albedo, normal, visibility, shading, reconstruction;
-};
-
-}  // namespace
-
-RgbImage planar_rgb(const float* planar, int w, int h) {
-  RgbImage img;
-  img.width = w;
-  img.height = h;
-  const size_t plane = static_cast<size_t>(w) * h;
-  img.pixels.resize(plane * 3);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = planar[c * plane + p];
-  return img;
+PhotoDecomposer::PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer, Backend& backend,
+                                 int crop_size, const PhotoInferOptions& options)
+    : detector_(detector), decomposer_(decomposer), backend_(backend), crop_size_(crop_size), options_(options) {
+  check(crop_size >= 8, "photo decomposer: the crop size must be at least 8 pixels (it is ", crop_size, ")");
+  check(options.batch >= 1, "photo decomposer: the batch size must be at least 1 (it is ", options.batch, ")");
+  check(options.feather >= 0, "photo decomposer: the feather must be 0 or more (it is ", options.feather, ")");
 }
 
-namespace {
-
-// One photo-level PNG: the premultiplied layer over the input, or un-premultiplied with alpha.
-void write_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
-                     const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
-  const size_t plane = alpha.size();
-  if (transparent) {
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] = alpha[p] > 0 ? layer.pixels[p * 3 + c] / alpha[p] : 0.0f;
-    write_rgba_png_atomically(path, layer, alpha, encode_srgb);
-    return;
-  }
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const float in = encode_srgb ? input.pixels[p * 3 + c] : linear_to_srgb(input.pixels[p * 3 + c]);
-      layer.pixels[p * 3 + c] += (1 - alpha[p]) * in;
-    }
-  write_png_atomically(path, layer, encode_srgb);
+std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
+                                      const PhotoInferOptions& options) {
+  std::vector<FaceCrop> crops;
+  for (const DetectedFace& f : detector.detect(photo, options.detection))
+    crops.push_back(crop_face(photo, f, crop_size, options.extend_forehead));
+  return crops;
 }
 
-std::string faces_json(const std::string& source, const std::vector<FaceCrop>& crops,
-                       const std::vector<sh::RgbLight>& photo_lights) {
-  std::ostringstream o;
-  o << std::setprecision(9) << "{\n  \"source\": \"" << source << "\",\n  \"faces\": [";
-  for (size_t k = 0; k < crops.size(); ++k) {
-    const FaceCrop& c = crops[k];
-    const Similarity2& t = c.alignment.photo_to_crop;
-    o << (k ? "," : "") << "\n    {\"folder\": \"face_" << k << "\", \"score\": " << c.face.score
-      << ", \"box\": [" << c.face.left << ", " << c.face.top << ", " << c.face.right << ", "
-      << c.face.bottom << "], \"found_turned_deg\": " << c.face.rotation_deg
-      << ",\n     \"photo_to_crop\": [[" << t.a << ", " << -t.b << ", " << t.tx << "], [" << t.b
-      << ", " << t.a << ", " << t.ty << "]], \"crop_size\": " << c.alignment.crop_size
-      << ",\n     \"landmarks\": [";
-    for (int i = 0; i < kLandmarkCount; ++i)
-      o << (i ? ", " : "") << "[" << c.face.landmarks[i].x << ", " << c.face.landmarks[i].y << "]";
-    o << "],\n     \"light_photo_frame\": [";
-    for (int i = 0; i < sh::kLightCoeffCount; ++i) o << (i ? ", " : "") << photo_lights[k][i];
-    o << "]}";
-  }
-  o << "\n  ]\n}\n";
-  return o.str();
+std::vector<FaceCrop> PhotoDecomposer::find_faces(const RgbImage& photo) {
+  return find_face_crops(detector_, photo, crop_size_, options_);
 }
 
-// Processes one photo; returns false (after printing why) when it has no usable face.
-bool infer_photo(const std::string& path, const std::string& folder, FaceDetector& detector,
-                 Decomposer& decomposer, Backend& backend, int size, const PhotoInferOptions& options) {
+DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& source) {
+  check(photo.width > 0 && photo.height > 0 &&
+            photo.pixels.size() == static_cast<size_t>(photo.width) * photo.height * 3,
+        source.empty() ? std::string("the photo") : "photo '" + source + "'", " is not a ", photo.width, "x",
+        photo.height, " RGB image (", photo.pixels.size(), " values)");
+  std::vector<FaceCrop> crops = find_faces(photo);
+  check(!crops.empty(), source.empty() ? std::string("the photo") : "photo '" + source + "'",
+        ": no face found (dlib's frontal detector needs a roughly frontal face of at least "
+        "--min-face-size pixels; try a smaller --min-face-size)");
+  std::vector<float> inputs;
+  for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+  const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
+                                        crop_size_, options_.batch);
+  return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather);
+}
+
+DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
   RgbImage photo;
   try {
     photo = read_photo(path);
   } catch (const Error& e) {
-    std::cerr << "\nphoto '" << path << "': " << e.what() << "\n";
-    return false;
+    fail("photo '", path, "': ", e.what());
   }
-  const std::vector<DetectedFace> faces = detector.detect(photo, options.detection);
-  if (faces.empty()) {
-    std::cerr << "\nphoto '" << path << "': no face found (dlib's frontal detector needs a face of at least "
-              << "--min-face-size pixels, roughly frontal; try a smaller --min-face-size)\n";
-    return false;
-  }
-  const int w = photo.width, h = photo.height;
-  const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(size) * size;
-  std::vector<FaceCrop> crops;
-  std::vector<float> inputs;
-  for (const DetectedFace& f : faces) {
-    crops.push_back(crop_face(photo, f, size, options.extend_forehead));
-    inputs.insert(inputs.end(), crops.back().rgb.begin(), crops.back().rgb.end());
-  }
-  const int n = static_cast<int>(crops.size());
-  const Decomposition d = decompose_all(decomposer, backend, inputs, n, size, options.batch);
+  return decompose(std::move(photo), path);
+}
 
-  std::error_code ec;
-  fs::create_directories(folder, ec);
-  check(!ec, "cannot create output folder '", folder, "': ", ec.message());
-  PastedLayers layers;
+DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
+                                          const Decomposition& decomposition, double feather) {
+  DecomposedPhoto out;
+  out.path = path;
+  out.photo = std::move(photo);
+  out.crops = std::move(crops);
+  out.decomposition = decomposition;
+  const int n = decomposition.count, crop_size = decomposition.size;
+  check(n == static_cast<int>(out.crops.size()), "photo pipeline: ", n, " decomposed faces for ",
+        out.crops.size(), " crops");
+  out.crop_size = crop_size;
+  const int w = out.photo.width, h = out.photo.height;
+  const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(crop_size) * crop_size;
+  PhotoLayers& layers = out.layers;
+  layers.width = w;
+  layers.height = h;
   layers.alpha.assign(plane, 0.0f);
   layers.albedo.assign(plane * 3, 0.0f);
   layers.normal.assign(plane * 3, 0.0f);
   layers.visibility.assign(plane * 9, 0.0f);
   layers.shading.assign(plane * 3, 0.0f);
   layers.reconstruction.assign(plane * 3, 0.0f);
-  std::vector<sh::RgbLight> photo_lights;
-  std::vector<RgbImage> sheet_rows;
+  out.old_shading.assign(plane * 3, 1.0f);
+  const std::vector<float> ones(crop_plane, 1.0f);
+  const Decomposition& d = out.decomposition;
   for (int k = 0; k < n; ++k) {
-    const FaceCrop& c = crops[k];
+    const FaceCrop& c = out.crops[k];
     const Similarity2& t = c.alignment.photo_to_crop;
-    write_decomposition((fs::path(folder) / ("face_" + std::to_string(k))).string(), d, k, inputs, path);
-    const PasteRegion region = paste_region(w, h, t, size, c.mask_polygon, options.feather);
-    auto slice = [&](const std::vector<float>& all, int channels) {
-      return std::vector<float>(all.begin() + k * channels * crop_plane, all.begin() + (k + 1) * channels * crop_plane);
-    };
-    std::vector<float> normal = slice(d.normal, 3), visibility = slice(d.visibility, 9);
+    out.regions.push_back(paste_region(w, h, t, crop_size, c.mask_polygon, feather));
+    const PasteRegion& region = out.regions.back();
+    std::vector<float> normal = face_planes(d.normal, k, 3, crop_size);
+    std::vector<float> visibility = face_planes(d.visibility, k, 9, crop_size);
     rotate_normals_to_photo(normal.data(), crop_plane, t);
     rotate_visibility_to_photo(visibility.data(), crop_plane, t);
-    const std::vector<float> ones(crop_plane, 1.0f);
+    const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
     paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
-    paste_channels(region, slice(d.albedo, 3).data(), 3, layers.albedo.data(), w, h);
+    paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
     paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
     paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
-    paste_channels(region, slice(d.shading, 3).data(), 3, layers.shading.data(), w, h);
-    paste_channels(region, slice(d.reconstruction, 3).data(), 3, layers.reconstruction.data(), w, h);
+    paste_channels(region, shading.data(), 3, layers.shading.data(), w, h);
+    paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(), w, h);
+    paste_channels(region, shading.data(), 3, out.old_shading.data(), w, h);
     sh::RgbLight light;
-    for (int i = 0; i < sh::kLightCoeffCount; ++i) light[i] = d.light[static_cast<size_t>(k) * 27 + i];
-    photo_lights.push_back(rotate_light_to_photo(light, t));
-    if (options.contact_sheet) sheet_rows.push_back(contact_sheet_row(d, k, inputs));
+    for (int i = 0; i < sh::kLightCoeffCount; ++i)
+      light[i] = d.light[static_cast<size_t>(k) * sh::kLightCoeffCount + i];
+    out.photo_lights.push_back(rotate_light_to_photo(light, t));
   }
-
-  auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
-  const std::string json = faces_json(path, crops, photo_lights);
-  write_file_atomically(at("faces.json"), json.data(), json.size());
-  write_layer_png(at("albedo.png"), planar_rgb(layers.albedo.data(), w, h), photo, layers.alpha, options.transparent, true);
-  write_layer_png(at("shading.png"), planar_rgb(layers.shading.data(), w, h), photo, layers.alpha, options.transparent, true);
-  write_layer_png(at("reconstruction.png"), planar_rgb(layers.reconstruction.data(), w, h), photo, layers.alpha, options.transparent, true);
-  RgbImage normal_png = planar_rgb(layers.normal.data(), w, h), visibility_png = normal_png;
-  const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + layers.alpha[p]);  // premultiplied (n + 1) / 2
-      visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    }
-  write_layer_png(at("normal.png"), normal_png, photo, layers.alpha, options.transparent, false);
-  write_layer_png(at("visibility.png"), visibility_png, photo, layers.alpha, options.transparent, false);
-
-  std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
-                                    "normal.X", "normal.Y", "normal.Z"};
-  for (int i = 0; i < 9; ++i) names.push_back("visibility." + std::to_string(i));
-  for (const char* layer : {"shading", "reconstruction"})
-    for (const char* c : {"R", "G", "B"}) names.push_back(std::string(layer) + "." + c);
-  LayeredImage exr(w, h, names);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) exr.plane(c)[p] = photo.pixels[p * 3 + c];
-  std::copy(layers.alpha.begin(), layers.alpha.end(), exr.plane(3));
-  std::copy(layers.albedo.begin(), layers.albedo.end(), exr.plane(4));
-  std::copy(layers.normal.begin(), layers.normal.end(), exr.plane(7));
-  std::copy(layers.visibility.begin(), layers.visibility.end(), exr.plane(10));
-  std::copy(layers.shading.begin(), layers.shading.end(), exr.plane(19));
-  std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
-  exr.set_metadata("facetool:source", path);
-  exr.set_metadata("facetool:faces", std::to_string(n));
-  write_exr_atomically(at("photo.exr"), exr);
-
-  if (options.contact_sheet) {
-    const int width = sheet_rows[0].width;
-    RgbImage annotated = resize_to_width(photo, width);
-    for (const FaceCrop& c : crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
-    sheet_rows.insert(sheet_rows.begin(), annotated);
-    write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
-  }
-  return true;
+  return out;
 }
-
-}  // namespace
 
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs) {
   std::vector<std::string> photos;
@@ -252,26 +142,6 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
     }
   }
   return photos;
-}
-
-int infer_photos(const std::vector<std::string>& photos, const std::string& out_dir,
-                 Decomposer& decomposer, Backend& backend, int crop_size,
-                 const PhotoInferOptions& options) {
-  FaceDetector detector(options.landmark_model);
-  std::map<std::string, int> seen;
-  int failed = 0;
-  ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
-  for (const std::string& path : photos) {
-    std::string stem = fs::path(path).stem().string();
-    const int k = ++seen[stem];
-    if (k > 1) stem += "_" + std::to_string(k);
-    if (!infer_photo(path, (fs::path(out_dir) / stem).string(), detector, decomposer, backend,
-                     crop_size, options))
-      ++failed;
-    progress.advance();
-  }
-  progress.finish();
-  return failed;
 }
 
 }  // namespace facetool

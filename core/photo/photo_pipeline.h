@@ -1,13 +1,18 @@
 // Whole photos: detection, alignment, the network on each face's crop, and everything pasted back
-// at the photo's resolution (docs/photos.md).
+// at the photo's resolution (docs/photos.md). PhotoDecomposer works on photos in memory; the
+// files `infer` writes from its results are photo_files.h's.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/backend/backend.h"
+#include "core/face/face_crops.h"
 #include "core/face/face_detector.h"
+#include "core/face/paste_back.h"
+#include "core/inference/batched_decomposition.h"
 #include "core/inference/decomposer.h"
+#include "core/sh/sh_types.h"
 
 namespace facetool {
 
@@ -25,18 +30,76 @@ struct PhotoInferOptions {
 // recursive). Throws facetool::Error for a path that is neither.
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs);
 
-// Runs the decomposer over `count` planar crops [count][3][size][size] in batches of `batch`
-// and concatenates the results (also used by `facetool relight`).
-Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
-                            int count, int size, int batch);
+// Detection and alignment: each face of `photo` (linear RGB) cropped to crop_size, best detection
+// score first (empty: no face). PhotoDecomposer's first step; prepare-real's whole job.
+std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
+                                      const PhotoInferOptions& options);
 
-// Planar [3][w*h] values as an interleaved RgbImage.
-RgbImage planar_rgb(const float* planar, int w, int h);
+// Photo-resolution planar layers, premultiplied by the faces' coverage `alpha` (0 where no face
+// is). Normals and visibility are turned into the photo's frame (+X right, +Y up, +Z towards
+// the viewer; core/face/frame_rotation.h).
+struct PhotoLayers {
+  int width = 0, height = 0;
+  std::vector<float> alpha;           // [w*h] face coverage in [0, 1]
+  std::vector<float> albedo;          // [3][w*h]
+  std::vector<float> normal;          // [3][w*h]
+  std::vector<float> visibility;      // [9][w*h] SH coefficients
+  std::vector<float> shading;         // [3][w*h]
+  std::vector<float> reconstruction;  // [3][w*h]
+};
 
-// Runs every photo; a photo that cannot be read or has no face gets a line on stderr and the
-// run goes on. Returns the number of such photos.
-int infer_photos(const std::vector<std::string>& photos, const std::string& out_dir,
-                 Decomposer& decomposer, Backend& backend, int crop_size,
-                 const PhotoInferOptions& options);
+// A photo taken apart once: its faces' crops (best detection score first), the network's
+// crop-level results (crop frame), where each face pastes back, each face's light turned into
+// the photo's frame, and the layers pasted back at the photo's resolution.
+struct DecomposedPhoto {
+  std::string path;  // the source named in messages and files ("" for a photo given in memory)
+  RgbImage photo;    // linear RGB
+  int crop_size = 0;
+  std::vector<FaceCrop> crops;
+  Decomposition decomposition;             // one image per crop
+  std::vector<PasteRegion> regions;        // per face
+  std::vector<sh::RgbLight> photo_lights;  // per face, photo frame (docs/photos.md)
+  PhotoLayers layers;
+  std::vector<float> old_shading;  // [3][w*h] estimated shading, 1 outside the faces (relighting)
+};
+
+// The photo pipeline on photos in memory: detect, align, decompose every face in batches, paste
+// back. The detector, decomposer and backend must outlive it.
+class PhotoDecomposer {
+ public:
+  // `crop_size`: the network's input size.
+  PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer, Backend& backend, int crop_size,
+                  const PhotoInferOptions& options);
+
+  // Detection and alignment only: each face's crop, best detection score first (empty: none).
+  std::vector<FaceCrop> find_faces(const RgbImage& photo);
+
+  // `photo` in linear RGB. Throws facetool::Error naming `source` (or "the photo") when it holds
+  // no face.
+  DecomposedPhoto decompose(RgbImage photo, const std::string& source = "");
+
+  // read_photo(path) (8-bit files decoded from sRGB), then decompose(); throws facetool::Error
+  // naming the file when it cannot be read or holds no face.
+  DecomposedPhoto decompose_file(const std::string& path);
+
+  const PhotoInferOptions& options() const { return options_; }
+  int crop_size() const { return crop_size_; }
+
+ private:
+  FaceDetector& detector_;
+  Decomposer& decomposer_;
+  Backend& backend_;
+  int crop_size_;
+  PhotoInferOptions options_;
+};
+
+// The part of decompose() after the network: paste regions, the photo-frame layers, the
+// estimated shading at the photo's resolution and each face's light turned into the photo's
+// frame. `decomposition` holds one face per crop (the tests give synthetic ones).
+DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
+                                          const Decomposition& decomposition, double feather);
+
+// Face k's crop-level planes of `d`: `channels` planes of S*S from the array `all` ([N][C][S][S]).
+std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size);
 
 }  // namespace facetool

@@ -1,25 +1,16 @@
-// `facetool relight` on photos: decompose each face once, then per new light render and paste back.
+// Relighting decomposed photos: render every face under the new light, paste back.
 #include "core/photo/relight_pipeline.h"
 
 #include <algorithm>
 
 #include "core/face/frame_rotation.h"
 #include "core/face/landmark_drawing.h"
-#include "core/face/photo_reader.h"
 #include "core/light/light_preview.h"
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
 
 namespace facetool {
 namespace {
-
-std::vector<float> to_planar(const RgbImage& image) {
-  const size_t plane = static_cast<size_t>(image.width) * image.height;
-  std::vector<float> planar(plane * 3);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) planar[c * plane + p] = image.pixels[p * 3 + c];
-  return planar;
-}
 
 sh::Mat3 transpose(const sh::Mat3& m) {
   sh::Mat3 t{};
@@ -29,52 +20,6 @@ sh::Mat3 transpose(const sh::Mat3& m) {
 }
 
 }  // namespace
-
-DecomposedPhoto decompose_photo(const std::string& path, FaceDetector& detector, Decomposer& decomposer,
-                                Backend& backend, int crop_size, const PhotoInferOptions& options) {
-  DecomposedPhoto out;
-  out.photo = read_photo(path);
-  const std::vector<DetectedFace> faces = detector.detect(out.photo, options.detection);
-  check(!faces.empty(), "photo '", path, "': no face found (dlib's frontal detector needs a roughly "
-        "frontal face of at least --min-face-size pixels; try a smaller --min-face-size)");
-  std::vector<float> inputs;
-  for (const DetectedFace& f : faces) {
-    out.crops.push_back(crop_face(out.photo, f, crop_size, options.extend_forehead));
-    inputs.insert(inputs.end(), out.crops.back().rgb.begin(), out.crops.back().rgb.end());
-  }
-  const Decomposition d = decompose_all(decomposer, backend, inputs, static_cast<int>(faces.size()),
-                                        crop_size, options.batch);
-  return assemble_decomposed_photo(path, std::move(out.photo), std::move(out.crops), d, options.feather);
-}
-
-DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
-                                          const Decomposition& decomposition, double feather) {
-  DecomposedPhoto out;
-  out.path = path;
-  out.photo = std::move(photo);
-  out.crops = std::move(crops);
-  out.decomposition = decomposition;
-  const int n = decomposition.count, crop_size = decomposition.size;
-  check(n == static_cast<int>(out.crops.size()), "relight: ", n, " decomposed faces for ", out.crops.size(), " crops");
-  out.crop_size = crop_size;
-  const int w = out.photo.width, h = out.photo.height;
-  const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(crop_size) * crop_size;
-  out.alpha.assign(plane, 0.0f);
-  out.old_shading.assign(plane * 3, 1.0f);
-  const std::vector<float> ones(crop_plane, 1.0f);
-  for (int k = 0; k < n; ++k) {
-    const Similarity2& t = out.crops[k].alignment.photo_to_crop;
-    out.regions.push_back(paste_region(w, h, t, crop_size, out.crops[k].mask_polygon, feather));
-    paste_channels(out.regions.back(), ones.data(), 1, out.alpha.data(), w, h);
-    paste_channels(out.regions.back(), out.decomposition.shading.data() + k * 3 * crop_plane, 3,
-                   out.old_shading.data(), w, h);
-    sh::RgbLight light;
-    for (int i = 0; i < sh::kLightCoeffCount; ++i)
-      light[i] = out.decomposition.light[static_cast<size_t>(k) * sh::kLightCoeffCount + i];
-    out.photo_lights.push_back(rotate_light_to_photo(light, t));
-  }
-  return out;
-}
 
 RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light,
                          const RelightSettings& settings, RendererPlugin& renderer, Backend& backend) {
@@ -107,7 +52,7 @@ RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light
 
   RelitPhoto out;
   out.new_shading.assign(plane * 3, 1.0f);
-  std::vector<float> planar = to_planar(photo.photo);
+  std::vector<float> planar = planar_from_rgb(photo.photo);
   for (int k = 0; k < n; ++k) {
     paste_channels(photo.regions[k], crop_shading.data() + k * 3 * crop_plane, 3, out.new_shading.data(), w, h);
     if (settings.mode == relight::Mode::Render)
@@ -116,16 +61,17 @@ RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light
   if (settings.mode == relight::Mode::Ratio)
     relight::apply_ratio(planar.data(), photo.old_shading.data(), out.new_shading.data(), plane,
                          settings.ratio_epsilon, planar.data());
-  out.image = planar_rgb(planar.data(), w, h);
+  out.image = rgb_from_planar(planar.data(), w, h);
   return out;
 }
 
 RgbImage shading_over_photo(const DecomposedPhoto& photo, const std::vector<float>& shading) {
   RgbImage out = photo.photo;
-  const size_t plane = photo.alpha.size();
+  const std::vector<float>& alpha = photo.layers.alpha;
+  const size_t plane = alpha.size();
   for (size_t p = 0; p < plane; ++p)
     for (int c = 0; c < 3; ++c)
-      out.pixels[p * 3 + c] = photo.alpha[p] * shading[c * plane + p] + (1 - photo.alpha[p]) * out.pixels[p * 3 + c];
+      out.pixels[p * 3 + c] = alpha[p] * shading[c * plane + p] + (1 - alpha[p]) * out.pixels[p * 3 + c];
   return out;
 }
 

@@ -1,41 +1,15 @@
-// `facetool relight` on photos: decompose each face once, then per new light render and paste back.
+// Relighting decomposed photos: per new light, one render of every face and a paste-back
+// (`facetool relight`, docs/relighting.md).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/photo/photo_pipeline.h"
-#include "core/face/face_crops.h"
-#include "core/face/paste_back.h"
 #include "core/relight/relight_math.h"
 #include "core/sh/sh_types.h"
 
 namespace facetool {
-
-// A photo taken apart once: its faces' crops, the network's results, where each face pastes back,
-// and each face's estimated light in the photo's frame.
-struct DecomposedPhoto {
-  std::string path;
-  RgbImage photo;  // linear RGB
-  int crop_size = 0;
-  std::vector<FaceCrop> crops;
-  Decomposition decomposition;
-  std::vector<PasteRegion> regions;
-  std::vector<sh::RgbLight> photo_lights;  // per face, photo frame (docs/photos.md)
-  std::vector<float> alpha;                // [w*h] face coverage
-  std::vector<float> old_shading;          // [3][w*h] estimated shading, 1 outside the faces
-};
-
-// Reads, detects, aligns and decomposes; throws facetool::Error naming the photo when it cannot
-// be read or holds no face.
-DecomposedPhoto decompose_photo(const std::string& path, FaceDetector& detector, Decomposer& decomposer,
-                                Backend& backend, int crop_size, const PhotoInferOptions& options);
-
-// The part of decompose_photo after the network: paste regions, face coverage, the estimated
-// shading at the photo's resolution and each face's light turned into the photo's frame.
-// `decomposition` holds one face per crop (the tests give synthetic ones).
-DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
-                                          const Decomposition& decomposition, double feather);
 
 struct RelightSettings {
   relight::Mode mode = relight::Mode::Ratio;

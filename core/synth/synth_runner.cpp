@@ -20,23 +20,6 @@
 namespace facetool {
 namespace fs = std::filesystem;
 
-void parse_shard(const std::string& text, int& index, int& count) {
-  const size_t slash = text.find('/');
-  bool ok = slash != std::string::npos && slash > 0 && slash + 1 < text.size();
-  if (ok) {
-    try {
-      size_t used_i = 0, used_n = 0;
-      index = std::stoi(text.substr(0, slash), &used_i);
-      count = std::stoi(text.substr(slash + 1), &used_n);
-      ok = used_i == slash && used_n == text.size() - slash - 1 && count > 0 && index >= 0 &&
-           index < count;
-    } catch (const std::exception&) {
-      ok = false;
-    }
-  }
-  check(ok, "--shard '", text, "' is not i/n with 0 <= i < n (e.g. 0/4 ... 3/4)");
-}
-
 namespace {
 
 double process_cpu_seconds() {
@@ -100,7 +83,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
       if (position >= indices.size() || stop) return;
       try {
         const int64_t index = indices[position];
-        const std::string path = (fs::path(options.output_dir) / synth_sample_file_name(index)).string();
+        const std::string path = (fs::path(options.output_dir) / sample_file_name(index)).string();
         bool have = false;
         if (fs::exists(path)) {
           // A present sample is kept only when it was made the same way (its metadata) and
@@ -190,7 +173,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   for (std::string line; std::getline(description, line);) manifest << "#   " << line << "\n";
   manifest << "file\tindex\tsample_seed\troll_deg\tpitch_deg\tyaw_deg\tfov_deg\tlight_source\n";
   for (size_t k = 0; k < indices.size(); ++k)
-    manifest << manifest_line(synth_sample_file_name(indices[k]), infos[k]);
+    manifest << manifest_line(sample_file_name(indices[k]), infos[k]);
   char manifest_name[64];
   std::snprintf(manifest_name, sizeof(manifest_name), "manifest-%d-of-%d.tsv",
                 options.shard_index, options.shard_count);
@@ -203,7 +186,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
     const size_t row_count = std::min<size_t>(indices.size(), std::max(options.contact_sheet_rows, 1));
     for (size_t k = 0; k < row_count; ++k)
       rows.push_back(read_synth_sample(
-          (fs::path(options.output_dir) / synth_sample_file_name(indices[k])).string()));
+          (fs::path(options.output_dir) / sample_file_name(indices[k])).string()));
     write_contact_sheet(options.contact_sheet, rows);
   }
   return report;

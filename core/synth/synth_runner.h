@@ -36,7 +36,7 @@ struct SynthRunReport {
 };
 
 // Generates the shard's missing samples into options.output_dir (created if needed), each as
-// synth_sample_file_name(index) written atomically, so an interrupted run leaves only whole
+// sample_file_name(index) written atomically, so an interrupted run leaves only whole
 // files and resumes where it stopped. A present sample is kept when its header names the same
 // generator version, seed, size and settings fingerprint (generator_settings.h: lights, faces,
 // sampling, renderer...) and all its pixels decode; a damaged one (truncated, unreadable) is
@@ -44,8 +44,5 @@ struct SynthRunReport {
 // options.overwrite, which regenerates it. Then writes manifest-<i>-of-<n>.tsv (with the
 // settings) and the contact sheet. Output is bit-identical whatever the thread count.
 SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions& options);
-
-// Parses "i/n" (0 <= i < n); throws facetool::Error otherwise.
-void parse_shard(const std::string& text, int& index, int& count);
 
 }  // namespace facetool

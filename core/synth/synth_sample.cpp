@@ -97,12 +97,6 @@ void read_info(const LayeredImage& image, const std::string& source, SynthSample
 
 }  // namespace
 
-std::string synth_sample_file_name(int64_t index) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "sample_%08lld.exr", static_cast<long long>(index));
-  return buffer;
-}
-
 LayeredImage synth_sample_to_image(const SynthSample& s) {
   std::vector<std::string> names;
   for (const ChannelGroup& group : channel_groups())

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/io/layered_image.h"
+#include "core/io/sample_files.h"
 #include "core/sh/sh_types.h"
 #include "core/synth/pose_camera.h"
 
@@ -42,9 +43,6 @@ struct SynthSample {
 
   size_t plane() const { return static_cast<size_t>(width) * height; }
 };
-
-// File name of sample `index`: "sample_00000042.exr".
-std::string synth_sample_file_name(int64_t index);
 
 // Channel names in the EXR: R G B, albedo.R/G/B, normal.X/Y/Z, mask, visibility.0..8, depth.Z;
 // metadata keys start with "facetool:" (see docs/synthetic-data.md).

@@ -125,7 +125,7 @@ TEST(RelightPipeline, RatioWithOwnLightReturnsThePhotoThroughATurnedAlignment) {
   const Similarity2 t = Similarity2::from(0.6, 30 * kPi / 180, -10, 12);
   const DecomposedPhoto p = sphere_photo(kOwnLight, 2 * std::sqrt(kPi), t, 110);
   double covered = 0;
-  for (float a : p.alpha) covered += a;
+  for (float a : p.layers.alpha) covered += a;
   ASSERT_GT(covered, 1000) << "the sphere must land in the photo";
   const RelitPhoto r = relight(p, p.photo_lights[0], relight::Mode::Ratio);
   for (size_t i = 0; i < r.image.pixels.size(); ++i) ASSERT_NEAR(r.image.pixels[i], p.photo.pixels[i], 1e-5f) << i;
@@ -142,7 +142,7 @@ TEST(RelightPipeline, RenderWithOwnLightReturnsTheReconstruction) {
   const size_t plane = static_cast<size_t>(kSize) * kSize;
   int inside = 0;
   for (size_t q = 0; q < plane; ++q) {
-    if (p.alpha[q] < 1.0f) continue;
+    if (p.layers.alpha[q] < 1.0f) continue;
     ++inside;
     for (int c = 0; c < 3; ++c)
       ASSERT_NEAR(r.image.pixels[q * 3 + c], p.decomposition.reconstruction[c * plane + q], 1e-5f) << q;
@@ -168,7 +168,7 @@ TEST(RelightPipeline, HalfTurnMovesTheBrightSideAcross) {
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x) {
         const size_t q = static_cast<size_t>(y) * kSize + x;
-        if (p.alpha[q] < 1.0f) continue;
+        if (p.layers.alpha[q] < 1.0f) continue;
         (x < kSize / 2 ? left : right_sum) += r.new_shading[q];
       }
     return std::pair<double, double>{left, right_sum};
@@ -181,7 +181,7 @@ TEST(RelightPipeline, HalfTurnMovesTheBrightSideAcross) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
       const size_t q = static_cast<size_t>(y) * kSize + x, m = static_cast<size_t>(y) * kSize + (kSize - 1 - x);
-      if (p.alpha[q] < 1.0f || p.alpha[m] < 1.0f) continue;
+      if (p.layers.alpha[q] < 1.0f || p.layers.alpha[m] < 1.0f) continue;
       ASSERT_NEAR(after.new_shading[q], before.new_shading[m], 1e-4f) << x << "," << y;
     }
 }
@@ -198,7 +198,7 @@ TEST(RelightPipeline, TransferredShadingMatchesTheClosedFormIrradiance) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
       const size_t q = static_cast<size_t>(y) * kSize + x;
-      if (p.alpha[q] < 1.0f) continue;
+      if (p.layers.alpha[q] < 1.0f) continue;
       for (int c = 0; c < 3; ++c)
         worst = std::max(worst, std::abs(r.new_shading[c * plane + q] - closed_form_shading(light, c, sphere_normal(x, y))));
     }
@@ -213,7 +213,7 @@ TEST(RelightPipeline, NoVisibilityUsesTheOpenHemisphere) {
   const RelitPhoto open = relight(p, kOwnLight, relight::Mode::Render, false);
   const size_t plane = static_cast<size_t>(kSize) * kSize;
   for (size_t q = 0; q < plane; ++q) {
-    if (p.alpha[q] < 1.0f) continue;
+    if (p.layers.alpha[q] < 1.0f) continue;
     for (int c = 0; c < 3; ++c)
       ASSERT_NEAR(open.new_shading[c * plane + q], 2 * with.new_shading[c * plane + q], 1e-4f) << q;
   }

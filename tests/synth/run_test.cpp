@@ -7,6 +7,7 @@
 #include "core/util/atomic_file.h"
 #include "core/io/image_io.h"
 #include "core/synth/synth_runner.h"
+#include "core/util/shard.h"
 #include "core/util/error.h"
 #include "synth_test_support.h"
 
@@ -57,7 +58,7 @@ TEST_F(SynthRun, SameFilesWhateverTheThreadsAndShards) {
   EXPECT_EQ(run(sharded, 2, 0, 2).generated, 4);
   EXPECT_EQ(run(sharded, 1, 1, 2).generated, 3);
   for (int k = 0; k < 7; ++k) {
-    const std::string name = synth_sample_file_name(k);
+    const std::string name = sample_file_name(k);
     const std::string reference = read_bytes(one + "/" + name);
     ASSERT_FALSE(reference.empty()) << name;
     EXPECT_EQ(read_bytes(two + "/" + name), reference) << name;
@@ -70,19 +71,19 @@ TEST_F(SynthRun, SameFilesWhateverTheThreadsAndShards) {
 TEST_F(SynthRun, ResumesAfterAnInterruption) {
   const std::string out = work.file("resume");
   run(out, 2);
-  const std::string kept = read_bytes(out + "/" + synth_sample_file_name(2));
-  const std::string removed = read_bytes(out + "/" + synth_sample_file_name(5));
+  const std::string kept = read_bytes(out + "/" + sample_file_name(2));
+  const std::string removed = read_bytes(out + "/" + sample_file_name(5));
   // An interrupted run: one sample missing, one truncated (a copy from another tool), and a
   // temporary file of a process that no longer exists.
-  fs::remove(out + "/" + synth_sample_file_name(5));
-  fs::resize_file(out + "/" + synth_sample_file_name(3), 100);
-  testing::write_text(out + "/" + synth_sample_file_name(6) + ".tmp-999999999-0", "partial");
+  fs::remove(out + "/" + sample_file_name(5));
+  fs::resize_file(out + "/" + sample_file_name(3), 100);
+  testing::write_text(out + "/" + sample_file_name(6) + ".tmp-999999999-0", "partial");
   const SynthRunReport report = run(out, 2);
   EXPECT_EQ(report.generated, 2);  // 5 (missing) and 3 (unreadable)
   EXPECT_EQ(report.reused, 5);
-  EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(2)), kept);
-  EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(5)), removed);
-  EXPECT_FALSE(fs::exists(out + "/" + synth_sample_file_name(6) + ".tmp-999999999-0"));
+  EXPECT_EQ(read_bytes(out + "/" + sample_file_name(2)), kept);
+  EXPECT_EQ(read_bytes(out + "/" + sample_file_name(5)), removed);
+  EXPECT_FALSE(fs::exists(out + "/" + sample_file_name(6) + ".tmp-999999999-0"));
   std::ifstream manifest(out + "/manifest-0-of-1.tsv");
   int lines = 0;
   for (std::string line; std::getline(manifest, line);) lines += line.rfind("sample_", 0) == 0;
@@ -106,9 +107,9 @@ TEST_F(SynthRun, SamplesTruncatedAfterTheirHeaderAreRegenerated) {
   const std::string out = work.file("truncated");
   run(out, 2);
   std::vector<std::string> original;
-  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + synth_sample_file_name(k)));
-  const std::string cut_a = out + "/" + synth_sample_file_name(1);
-  const std::string cut_b = out + "/" + synth_sample_file_name(4);
+  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + sample_file_name(k)));
+  const std::string cut_a = out + "/" + sample_file_name(1);
+  const std::string cut_b = out + "/" + sample_file_name(4);
   fs::resize_file(cut_a, original[1].size() - 64);
   fs::resize_file(cut_b, original[4].size() / 2);
   // The damage is past the header: the metadata check alone would keep these files.
@@ -119,7 +120,7 @@ TEST_F(SynthRun, SamplesTruncatedAfterTheirHeaderAreRegenerated) {
   EXPECT_EQ(report.repaired, 2);
   EXPECT_EQ(report.reused, 5);
   for (int k = 0; k < 7; ++k)
-    EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(k)), original[k]) << k;
+    EXPECT_EQ(read_bytes(out + "/" + sample_file_name(k)), original[k]) << k;
 }
 
 // Issue 10: a rerun with other settings (here other lights, other visibility directions, other
@@ -129,7 +130,7 @@ TEST_F(SynthRun, OtherSettingsAreRefusedUnlessOverwriting) {
   const std::string out = work.file("settings");
   run(out, 2);
   std::vector<std::string> original;
-  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + synth_sample_file_name(k)));
+  for (int k = 0; k < 7; ++k) original.push_back(read_bytes(out + "/" + sample_file_name(k)));
   const std::string manifest = read_bytes(out + "/manifest-0-of-1.tsv");
   EXPECT_NE(manifest.find("# settings " + generator->settings_fingerprint()), std::string::npos);
   EXPECT_NE(manifest.find("light b.txt"), std::string::npos) << manifest;
@@ -174,7 +175,7 @@ TEST_F(SynthRun, OtherSettingsAreRefusedUnlessOverwriting) {
       EXPECT_NE(message.find("--overwrite"), std::string::npos) << message;
     }
     for (int k = 0; k < 7; ++k)
-      EXPECT_EQ(read_bytes(out + "/" + synth_sample_file_name(k)), original[k]) << what << k;
+      EXPECT_EQ(read_bytes(out + "/" + sample_file_name(k)), original[k]) << what << k;
   }
   SynthRunOptions overwrite;
   overwrite.output_dir = out;
@@ -182,7 +183,7 @@ TEST_F(SynthRun, OtherSettingsAreRefusedUnlessOverwriting) {
   overwrite.seed = 99;
   overwrite.overwrite = true;
   EXPECT_EQ(run_synth(*variants[0].second, overwrite).generated, 7);
-  EXPECT_EQ(read_synth_sample_info(out + "/" + synth_sample_file_name(0)).settings,
+  EXPECT_EQ(read_synth_sample_info(out + "/" + sample_file_name(0)).settings,
             variants[0].second->settings_fingerprint());
   EXPECT_EQ(run_synth(*variants[0].second, overwrite).reused, 7);  // now the same settings
 }

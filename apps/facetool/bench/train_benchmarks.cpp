@@ -59,7 +59,7 @@ void write_bench_samples(const std::string& dir, int count, int size) {
     s.index = i;
     s.light_source = "bench";
     s.shape = "bench sphere";
-    write_synth_sample(dir + "/" + synth_sample_file_name(i), s);
+    write_synth_sample(dir + "/" + sample_file_name(i), s);
   }
 }
 

@@ -10,15 +10,16 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
-#include "apps/facetool/infer/default_model.h"
+#include "core/model/default_model.h"
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
+#include "core/inference/batched_decomposition.h"
 #include "core/inference/decomposer.h"
 #include "core/util/atomic_file.h"
 #include "core/io/image_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/gbuffer.h"
-#include "core/synth/synth_runner.h"
+#include "core/util/shard.h"
 #include "core/train/eval_metrics.h"
 #include "core/util/progress_bar.h"
 
@@ -267,7 +268,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   check(!files.empty(), "eval: '", data, "' holds no sample_*.exr files");
   if (shard_count > 1) {
     std::vector<std::string> mine;
-    for (size_t i = shard_index; i < files.size(); i += shard_count) mine.push_back(files[i]);
+    for (size_t k : shard_positions(files.size(), shard_index, shard_count)) mine.push_back(files[k]);
     files = std::move(mine);
     check(!files.empty(), "eval: shard ", shard, " of '", data, "' holds no samples (only ",
           "fewer samples than shards)");
@@ -291,53 +292,54 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
     sheet.pixels.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 1.0f);
   }
   ProgressBar progress("eval", static_cast<int64_t>(files.size()), "images");
-  for (size_t first = 0; first < files.size(); first += batch) {
-    const int count = static_cast<int>(std::min(files.size() - first, static_cast<size_t>(batch)));
-    std::vector<TrainingSample> samples;
-    std::vector<float> planes;
-    for (int i = 0; i < count; ++i) {
-      samples.push_back(read_training_sample(files[first + i], false));
-      const TrainingSample& s = samples.back();
-      check(s.width == size && s.height == size, "sample '", files[first + i], "' is ", s.width,
-            "x", s.height, " but the network takes ", size, "x", size);
-      planes.insert(planes.end(), s.image.begin(), s.image.end());
-    }
-    const Decomposition d = decomposer.run(backend, planes, count);
-    for (int i = 0; i < count; ++i) {
-      const TrainingSample& s = samples[i];
-      const std::vector<float> mask = erode_mask(s.mask, s.width, s.height);
-      ImageResult r;
-      r.file = fs::path(files[first + i]).filename().string();
-      r.truth = !s.real;
-      const float* recon = d.reconstruction.data() + i * 3 * plane;
-      const float* normal = d.normal.data() + i * 3 * plane;
-      r.psnr = masked_psnr(recon, s.image.data(), mask.data(), size, size);
-      r.ssim = masked_ssim(recon, s.image.data(), mask.data(), size, size);
-      if (r.truth) {
-        std::vector<double> own;
-        normal_angles_deg(normal, s.normal.data(), mask.data(), plane, own);
-        r.normal_mean = summarize_angles(own).mean;
-        angles.insert(angles.end(), own.begin(), own.end());
-        for (double angle : own) {
-          ++r.pixels;
-          r.angle_sum += angle;
-          r.angle_sum_sq += angle * angle;
-          r.under20 += angle < 20.0;
-          r.under25 += angle < 25.0;
-          r.under30 += angle < 30.0;
+  std::vector<TrainingSample> samples;  // the batch's
+  decompose_in_batches(
+      decomposer, backend, files.size(), batch,
+      [&](size_t k, std::vector<float>& planes) {
+        if (planes.empty()) samples.clear();
+        samples.push_back(read_training_sample(files[k], false));
+        const TrainingSample& s = samples.back();
+        check(s.width == size && s.height == size, "sample '", files[k], "' is ", s.width,
+              "x", s.height, " but the network takes ", size, "x", size);
+        planes.insert(planes.end(), s.image.begin(), s.image.end());
+      },
+      [&](size_t first, const Decomposition& d, const std::vector<float>&) {
+        const int count = d.count;
+        for (int i = 0; i < count; ++i) {
+          const TrainingSample& s = samples[i];
+          const std::vector<float> mask = erode_mask(s.mask, s.width, s.height);
+          ImageResult r;
+          r.file = fs::path(files[first + i]).filename().string();
+          r.truth = !s.real;
+          const float* recon = d.reconstruction.data() + i * 3 * plane;
+          const float* normal = d.normal.data() + i * 3 * plane;
+          r.psnr = masked_psnr(recon, s.image.data(), mask.data(), size, size);
+          r.ssim = masked_ssim(recon, s.image.data(), mask.data(), size, size);
+          if (r.truth) {
+            std::vector<double> own;
+            normal_angles_deg(normal, s.normal.data(), mask.data(), plane, own);
+            r.normal_mean = summarize_angles(own).mean;
+            angles.insert(angles.end(), own.begin(), own.end());
+            for (double angle : own) {
+              ++r.pixels;
+              r.angle_sum += angle;
+              r.angle_sum_sq += angle * angle;
+              r.under20 += angle < 20.0;
+              r.under25 += angle < 25.0;
+              r.under30 += angle < 30.0;
+            }
+            r.albedo_mse = masked_mse(d.albedo.data() + i * 3 * plane, s.albedo.data(), mask.data(), 3, plane);
+            r.visibility_mse =
+                masked_mse(d.visibility.data() + i * 9 * plane, s.visibility.data(), mask.data(), 9, plane);
+            r.light = light_error(d.light.data() + i * 27, s.light.data());
+          }
+          if (want_sheet)
+            add_sheet_row(sheet, static_cast<int>(first + i), size, s.image.data(), recon, normal,
+                          r.truth ? s.normal.data() : nullptr);
+          results.push_back(r);
         }
-        r.albedo_mse = masked_mse(d.albedo.data() + i * 3 * plane, s.albedo.data(), mask.data(), 3, plane);
-        r.visibility_mse =
-            masked_mse(d.visibility.data() + i * 9 * plane, s.visibility.data(), mask.data(), 9, plane);
-        r.light = light_error(d.light.data() + i * 27, s.light.data());
-      }
-      if (want_sheet)
-        add_sheet_row(sheet, static_cast<int>(first + i), size, s.image.data(), recon, normal,
-                      r.truth ? s.normal.data() : nullptr);
-      results.push_back(r);
-    }
-    progress.advance(count);
-  }
+        progress.advance(count);
+      });
   progress.finish();
 
   const std::string md_text =

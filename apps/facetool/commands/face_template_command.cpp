@@ -4,7 +4,8 @@
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
-#include "core/face/template_generator.h"
+#include "core/face/face_template.h"
+#include "core/synth/landmark_projection.h"
 
 namespace po = boost::program_options;
 
@@ -26,8 +27,11 @@ int run_face_template(CommandContext&, const std::vector<std::string>& args) {
     return 0;
   check_option_ranges(values, {{"fov", 1, 120}});
   if (!values.count("face-model")) throw UsageError("face-template: give --face-model DIR");
-  std::cout << template_table_source(generate_canonical_template(
-      values["face-model"].as<std::string>(), values["fov"].as<double>()));
+  const std::vector<std::array<double, 2>> projected = project_neutral_landmarks(
+      values["face-model"].as<std::string>(), values["fov"].as<double>());
+  Landmarks68 landmarks;
+  for (int i = 0; i < kLandmarkCount; ++i) landmarks[i] = {projected[i][0], projected[i][1]};
+  std::cout << template_table_source(landmarks);
   return 0;
 }
 

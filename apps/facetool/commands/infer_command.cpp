@@ -1,7 +1,6 @@
 // `facetool infer`: face crops in; albedo, normal, visibility, light, shading, reconstruction out.
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 
 #include "apps/facetool/commands/command.h"
@@ -11,10 +10,12 @@
 #include "core/photo/decomposition_files.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_options.h"
-#include "core/synth/synth_runner.h"
+#include "core/util/shard.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
+#include "core/inference/batched_decomposition.h"
 #include "core/inference/decomposer.h"
+#include "core/photo/photo_files.h"
 #include "core/model/network_weights.h"
 #include "core/model/safetensors.h"
 #include "core/util/progress_bar.h"
@@ -25,18 +26,6 @@ namespace fs = std::filesystem;
 namespace facetool {
 namespace {
 
-// Output folder names: the file's stem, made unique when two inputs share one.
-std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
-  std::map<std::string, int> seen;
-  std::vector<std::string> stems;
-  for (const std::string& f : files) {
-    std::string stem = fs::path(f).stem().string();
-    const int n = ++seen[stem];
-    stems.push_back(n == 1 ? stem : stem + "_" + std::to_string(n));
-  }
-  return stems;
-}
-
 int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
@@ -44,7 +33,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("shard", po::value<std::string>()->default_value("0/1")->value_name("i/n"),
        "decompose only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
-      ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png); photos get one each in their folder")
+      ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png, with --shard i/n <output>/contact_sheet-<i>-of-<n>.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment");
@@ -108,7 +97,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
   if (shard_count > 1) {
     std::vector<std::string> mine, my_stems;
-    for (size_t k = shard_index; k < files.size(); k += shard_count) {
+    for (size_t k : shard_positions(files.size(), shard_index, shard_count)) {
       mine.push_back(files[k]);
       my_stems.push_back(stems[k]);
     }
@@ -130,7 +119,9 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
   if (!aligned) {
-    const int failed = infer_photos(files, out_dir, decomposer, backend, size, photo_options);
+    FaceDetector detector(photo_options.landmark_model);
+    PhotoDecomposer photo_decomposer(detector, decomposer, backend, size, photo_options);
+    const int failed = infer_photos(files, stems, out_dir, photo_decomposer, photo_options);
     std::cerr << "wrote the results of " << files.size() - failed << " of " << files.size()
               << " photos to " << out_dir << "\n";
     if (failed > 0) std::cerr << failed << " photo(s) failed (see above)\n";
@@ -140,33 +131,36 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");
-  for (size_t first = 0; first < files.size(); first += batch) {
-    const int count = static_cast<int>(std::min(files.size() - first, static_cast<size_t>(batch)));
-    std::vector<float> inputs;
-    for (int i = 0; i < count; ++i) {
-      std::vector<float> crop = read_planar_crop(files[first + i], size);
-      inputs.insert(inputs.end(), crop.begin(), crop.end());
-    }
-    const Decomposition d = decomposer.run(backend, inputs, count);
-    for (int i = 0; i < count; ++i) {
-      write_decomposition((fs::path(out_dir) / stems[first + i]).string(), d, i, inputs,
-                          files[first + i]);
-      if (!values.count("no-contact-sheet")) sheet_rows.push_back(contact_sheet_row(d, i, inputs));
-    }
-    if (values.count("raw-output")) {
-      raw_albedo.insert(raw_albedo.end(), d.albedo.begin(), d.albedo.end());
-      raw_normal.insert(raw_normal.end(), d.normal.begin(), d.normal.end());
-      raw_visibility.insert(raw_visibility.end(), d.visibility.begin(), d.visibility.end());
-      raw_light.insert(raw_light.end(), d.light.begin(), d.light.end());
-    }
-    progress.advance(count);
-  }
+  decompose_in_batches(
+      decomposer, backend, files.size(), batch,
+      [&](size_t k, std::vector<float>& inputs) {
+        const std::vector<float> crop = read_planar_crop(files[k], size);
+        inputs.insert(inputs.end(), crop.begin(), crop.end());
+      },
+      [&](size_t first, const Decomposition& d, const std::vector<float>& inputs) {
+        for (int i = 0; i < d.count; ++i) {
+          write_decomposition((fs::path(out_dir) / stems[first + i]).string(), d, i, inputs, files[first + i]);
+          if (!values.count("no-contact-sheet")) sheet_rows.push_back(contact_sheet_row(d, i, inputs));
+        }
+        if (values.count("raw-output")) {
+          raw_albedo.insert(raw_albedo.end(), d.albedo.begin(), d.albedo.end());
+          raw_normal.insert(raw_normal.end(), d.normal.begin(), d.normal.end());
+          raw_visibility.insert(raw_visibility.end(), d.visibility.begin(), d.visibility.end());
+          raw_light.insert(raw_light.end(), d.light.begin(), d.light.end());
+        }
+        progress.advance(d.count);
+      });
   progress.finish();
 
   if (!sheet_rows.empty()) {
+    // A shard's rows go to a sheet of its own (contact_sheet-<i>-of-<n>.png, like synth's
+    // manifests), so shards writing into one folder do not overwrite each other's.
+    const std::string default_name =
+        shard_count > 1 ? "contact_sheet-" + std::to_string(shard_index) + "-of-" + std::to_string(shard_count) + ".png"
+                        : std::string("contact_sheet.png");
     const std::string sheet = values.count("contact-sheet")
                                   ? values["contact-sheet"].as<std::string>()
-                                  : (fs::path(out_dir) / "contact_sheet.png").string();
+                                  : (fs::path(out_dir) / default_name).string();
     write_png_atomically(sheet, stack_rows(sheet_rows));
     std::cerr << "contact sheet: " << sheet << "\n";
   }

@@ -14,7 +14,7 @@
 #include "core/face/real_sample.h"
 #include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
-#include "core/synth/synth_sample.h"
+#include "core/io/sample_files.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -101,14 +101,14 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
 
   FaceDetector detector(photo.landmark_model);
   std::ostringstream manifest;
-  manifest << "# facetool prepare-real manifest: generator " << kRealGeneratorVersion << ", size "
+  manifest << "# facetool prepare-real manifest: generator " << kRealSampleVersion << ", size "
            << size << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull") << "\n"
            << "file\tsource\tstatus\tdetail\n";
   int written = 0, kept = 0, skipped = 0;
   ProgressBar progress("prepare-real", static_cast<int64_t>(photos.size()), "photos");
   for (size_t k = 0; k < photos.size(); ++k) {
     const Photo& p = photos[k];
-    const std::string name = synth_sample_file_name(static_cast<int64_t>(k));
+    const std::string name = sample_file_name(static_cast<int64_t>(k));
     const std::string path = (fs::path(out) / name).string();
     if (fs::exists(path)) {
       const std::string source = read_real_sample_source(path);
@@ -125,17 +125,17 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
     std::string reason;
     try {
       const RgbImage image = read_photo(p.path);
-      const std::vector<DetectedFace> faces = detector.detect(image, photo.detection);
+      const std::vector<FaceCrop> faces = find_face_crops(detector, image, size, photo);
       if (faces.empty()) {
         reason = "no face found";
       } else {
-        const FaceCrop crop = crop_face(image, faces[0], size, photo.extend_forehead);
+        const FaceCrop& crop = faces[0];
         const double cut = mask_fraction_outside_photo(crop, image.width, image.height);
         if (cut > max_cut) {
           reason = "face cut by the photo's edge (" + std::to_string(static_cast<int>(cut * 100)) + "% of its mask outside)";
         } else {
           write_exr_atomically(path, real_sample_image(crop, p.source, photo.extend_forehead));
-          manifest << name << "\t" << clean(p.source) << "\twritten\tscore " << faces[0].score << "\n";
+          manifest << name << "\t" << clean(p.source) << "\twritten\tscore " << crop.face.score << "\n";
           ++written;
         }
       }

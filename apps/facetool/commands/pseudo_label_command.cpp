@@ -8,10 +8,11 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
-#include "apps/facetool/infer/default_model.h"
-#include "core/synth/synth_runner.h"
+#include "core/model/default_model.h"
+#include "core/util/shard.h"
 #include "core/backend/registry.h"
 #include "core/data/training_sample.h"
+#include "core/inference/batched_decomposition.h"
 #include "core/inference/decomposer.h"
 #include "core/io/exr_io.h"
 #include "core/plugin/renderer_plugin.h"
@@ -107,7 +108,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   parse_shard(shard, shard_index, shard_count);
   std::vector<int64_t> index;
   std::vector<std::string> mine;
-  for (size_t k = shard_index; k < files.size(); k += shard_count) {
+  for (size_t k : shard_positions(files.size(), shard_index, shard_count)) {
     mine.push_back(files[k]);
     index.push_back(static_cast<int64_t>(k));
   }
@@ -121,23 +122,22 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   const int size = network->config().input_size;
   fs::create_directories(out_dir);
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "images");
-  for (size_t first = 0; first < files.size(); first += batch) {
-    const int count = static_cast<int>(std::min(files.size() - first, static_cast<size_t>(batch)));
-    std::vector<FaceInput> inputs;
-    std::vector<float> planes;
-    for (int i = 0; i < count; ++i) {
-      inputs.push_back(load_face_input(files[first + i], size));
-      planes.insert(planes.end(), inputs.back().image.begin(), inputs.back().image.end());
-    }
-    const Decomposition d = decomposer.run(backend, planes, count);
-    for (int i = 0; i < count; ++i) {
-      const std::string name = inputs[i].sample
-                                   ? fs::path(files[first + i]).filename().string()
-                                   : synth_sample_file_name(index[first + i]);
-      write_exr_atomically((fs::path(out_dir) / name).string(), labelled_sample(inputs[i], d, i, model));
-    }
-    progress.advance(count);
-  }
+  std::vector<FaceInput> inputs;  // the batch's
+  decompose_in_batches(
+      decomposer, backend, files.size(), batch,
+      [&](size_t k, std::vector<float>& planes) {
+        if (planes.empty()) inputs.clear();
+        inputs.push_back(load_face_input(files[k], size));
+        planes.insert(planes.end(), inputs.back().image.begin(), inputs.back().image.end());
+      },
+      [&](size_t first, const Decomposition& d, const std::vector<float>&) {
+        for (int i = 0; i < d.count; ++i) {
+          const std::string name = inputs[i].sample ? fs::path(files[first + i]).filename().string()
+                                                    : sample_file_name(index[first + i]);
+          write_exr_atomically((fs::path(out_dir) / name).string(), labelled_sample(inputs[i], d, i, model));
+        }
+        progress.advance(d.count);
+      });
   progress.finish();
   std::cerr << "wrote " << files.size() << " pseudo-labelled samples to " << out_dir << "\n";
   return 0;

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <optional>
 
 #include "apps/facetool/commands/command.h"
@@ -12,6 +11,7 @@
 #include "apps/facetool/commands/light_rotation.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_options.h"
+#include "core/photo/photo_files.h"
 #include "core/photo/relight_pipeline.h"
 #include "core/backend/registry.h"
 #include "core/face/face_detector.h"
@@ -151,13 +151,14 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;
   FaceDetector detector(photo_options.landmark_model);
+  PhotoDecomposer photo_decomposer(detector, decomposer, backend, size, photo_options);
 
   std::optional<DecomposedPhoto> source;
   sh::RgbLight light{};
   if (values.count("light-from")) {
     const std::string path = values["light-from"].as<std::string>();
     check(fs::is_regular_file(path), "light source photo '", path, "' does not exist or is not a file");
-    source = decompose_photo(path, detector, decomposer, backend, size, photo_options);
+    source = photo_decomposer.decompose_file(path);
     light = source->photo_lights[0];  // the best-scoring face
   } else {
     light = *file_light;
@@ -165,16 +166,16 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   if (rotation) light = sh::rotate_light(light, *rotation);
   light = relight::scale_light(light, intensity);
 
-  std::map<std::string, int> seen;
+  const std::vector<std::string> stems = unique_stems(photos);
   int failed = 0;
   ProgressBar progress("relight", static_cast<int64_t>(photos.size()), "photos");
-  for (const std::string& path : photos) {
-    std::string stem = fs::path(path).stem().string();
-    if (const int k = ++seen[stem]; k > 1) stem += "_" + std::to_string(k);
+  for (size_t p = 0; p < photos.size(); ++p) {
+    const std::string& path = photos[p];
+    const std::string& stem = stems[p];
     const Clock::time_point start = Clock::now();
     DecomposedPhoto target;
     try {
-      target = decompose_photo(path, detector, decomposer, backend, size, photo_options);
+      target = photo_decomposer.decompose_file(path);
     } catch (const Error& e) {
       std::cerr << "\n" << e.what() << "\n";
       ++failed;

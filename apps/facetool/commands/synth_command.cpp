@@ -12,6 +12,7 @@
 #include "core/synth/plugin_renderer.h"
 #include "core/synth/random.h"
 #include "core/synth/synth_runner.h"
+#include "core/util/shard.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;

@@ -1,9 +1,7 @@
 // The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
 #include "apps/facetool/infer/network_loading.h"
 
-#include "apps/facetool/infer/default_model.h"
-#include "core/model/network_weights.h"
-#include "core/model/safetensors.h"
+#include "core/model/default_model.h"
 
 namespace po = boost::program_options;
 
@@ -34,16 +32,7 @@ void check_network_choice(const po::variables_map& values, const std::string& co
 
 LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backend,
                                         const std::string& path, const std::string& architecture) {
-  LoadedNetwork out;
-  const SafeTensors weights = SafeTensors::read_file(path);
-  const WeightsHeader header = read_weights_header(weights, path);
-  out.architecture = architecture.empty() ? header.architecture : architecture;
-  check(out.architecture == header.architecture, "weights '", path, "' are for network '",
-        header.architecture, "' but --network asks for '", out.architecture, "'");
-  out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
-  out.network->build(backend, header.config);
-  load_network_weights(*out.network, weights, path);
-  return out;
+  return load_network_weights_file(context.plugins(), backend, path, architecture);
 }
 
 LoadedNetwork load_network(CommandContext& context, const po::variables_map& values, Backend& backend) {

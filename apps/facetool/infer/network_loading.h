@@ -9,6 +9,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/backend.h"
+#include "core/inference/model_loading.h"
 #include "core/plugin/network_plugin.h"
 
 namespace facetool {
@@ -21,11 +22,6 @@ std::vector<OptionRange> network_option_ranges();
 
 // Checks that --model and --init random are not both given (UsageError naming `command`).
 void check_network_choice(const boost::program_options::variables_map& values, const std::string& command);
-
-struct LoadedNetwork {
-  std::shared_ptr<NetworkPlugin> network;
-  std::string architecture;
-};
 
 // Builds the weights' network on `backend` and loads them. `architecture` (a --network choice)
 // must agree with the file's when given. Used by infer, relight, pseudo-label and eval.

@@ -1,8 +1,7 @@
-// The canonical template from the ICT face model through the synthetic camera.
-#include "core/face/template_generator.h"
+// The face model's landmark vertices through the synthetic camera (the canonical template's source).
+#include "core/synth/landmark_projection.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "core/synth/face_model.h"
 #include "core/synth/pose_camera.h"
@@ -10,9 +9,10 @@
 
 namespace facetool {
 
-Landmarks68 generate_canonical_template(const std::string& face_model_directory, double fov_deg) {
+std::vector<std::array<double, 2>> project_neutral_landmarks(const std::string& face_model_directory,
+                                                             double fov_deg) {
   const FaceModel model = FaceModel::load(face_model_directory);
-  check(model.landmarks().size() == static_cast<size_t>(kLandmarkCount), "face model '",
+  check(model.landmarks().size() == 68, "face model '",
         face_model_directory, "' has no 68 landmark vertices (vertex_indices.json missing?)");
   FaceMesh mesh = model.neutral();
   apply_pose(mesh, HeadPose{});
@@ -20,8 +20,8 @@ Landmarks68 generate_canonical_template(const std::string& face_model_directory,
   camera.width = camera.height = 1;  // crop units: the projection is independent of the size
   camera.horizontal_fov_deg = fov_deg;
   const double half = std::tan(0.5 * fov_deg * 3.14159265358979323846 / 180.0);
-  Landmarks68 out;
-  for (int i = 0; i < kLandmarkCount; ++i) {
+  std::vector<std::array<double, 2>> out(68);
+  for (int i = 0; i < 68; ++i) {
     const int32_t v = model.landmarks()[i];
     check(v >= 0, "face model '", face_model_directory, "': landmark ", i, " is not on a kept vertex");
     const Vec3f p = mesh.positions[v];
@@ -30,16 +30,6 @@ Landmarks68 generate_canonical_template(const std::string& face_model_directory,
     out[i] = {(u + 1.0) * 0.5, (1.0 - w) * 0.5};
   }
   return out;
-}
-
-std::string template_table_source(const Landmarks68& landmarks) {
-  std::string s;
-  char line[96];
-  for (int i = 0; i < kLandmarkCount; ++i) {
-    std::snprintf(line, sizeof line, "    {%.6f, %.6f},  // %d\n", landmarks[i].x, landmarks[i].y, i);
-    s += line;
-  }
-  return s;
 }
 
 }  // namespace facetool

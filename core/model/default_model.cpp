@@ -1,6 +1,7 @@
 // The model shipped with facetool: where infer, relight, pseudo-label and eval find it without --model.
-#include "apps/facetool/infer/default_model.h"
+#include "core/model/default_model.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -12,11 +13,12 @@ namespace facetool {
 std::vector<std::string> default_model_dirs() {
   std::vector<std::string> dirs;
   if (const char* env = std::getenv("FACETOOL_MODEL_DIR"); env && *env) dirs.emplace_back(env);
-  const std::string exe = executable_dir();
-  if (!exe.empty())
-    dirs.push_back((std::filesystem::path(exe) / ".." / "share" / "facetool" / "models")
-                       .lexically_normal()
-                       .string());
+  for (const std::string& base : {executable_dir(), core_library_dir()}) {
+    if (base.empty()) continue;
+    const std::string dir =
+        (std::filesystem::path(base) / ".." / "share" / "facetool" / "models").lexically_normal().string();
+    if (std::find(dirs.begin(), dirs.end(), dir) == dirs.end()) dirs.push_back(dir);
+  }
   return dirs;
 }
 
