@@ -1,7 +1,8 @@
-# Installation and packaging: the program, libfacetool_core, the shipped plugins and backend
-# modules, the models, and the plugin SDK (headers, CMake package, pkg-config); cpack -G DEB makes
-# the packages facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
-#   bin/facetool  lib/libfacetool_core.so  lib/facetool/<backend modules>
+# Installation and packaging: the program, libfacetool_core, libfacetool (the libraries above the
+# core: photos, decomposition, relighting, training), the shipped plugins and backend modules, the
+# models, and the SDK (headers, CMake package, pkg-config); cpack -G DEB makes the packages
+# facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
+#   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules>
 #   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  include/facetool/core/...
 #   lib/cmake/facetool/  lib/pkgconfig/facetool.pc
 # The loaders search relative to the executable and to libfacetool_core, so a prefix works
@@ -25,6 +26,25 @@ set(FACETOOL_PUBLIC_HEADERS
   core/sh/illumination_from_shading.h core/sh/light_clamp.h core/sh/envmap_projection.h
   core/sh/sphere_samples.h
   core/util/error.h)
+# The C++ API (facetool::facetool, docs/api.md): the headers of every library above the core,
+# except those that include a third-party header (OpenImageIO's image_encoding.h and its users);
+# the core headers they include are among the plugin SDK's above. check-sdk.sh compiles each alone.
+get_property(api_libraries GLOBAL PROPERTY FACETOOL_LIBRARIES)
+set(api_headers "")
+foreach(library ${api_libraries})
+  get_target_property(dir ${library} SOURCE_DIR)
+  file(GLOB headers ${dir}/*.h)
+  list(APPEND api_headers ${headers})
+endforeach()
+foreach(header ${api_headers})
+  file(STRINGS ${header} third_party REGEX "#include <(OpenImageIO|embree|dlib|mpi|boost|nlohmann)|#include \"core/io/image_encoding.h\"")
+  if(third_party)
+    continue()
+  endif()
+  file(RELATIVE_PATH relative ${PROJECT_SOURCE_DIR} ${header})
+  list(APPEND FACETOOL_PUBLIC_HEADERS ${relative})
+endforeach()
+list(REMOVE_DUPLICATES FACETOOL_PUBLIC_HEADERS)
 foreach(header ${FACETOOL_PUBLIC_HEADERS})
   get_filename_component(dir ${header} DIRECTORY)
   install(FILES ${PROJECT_SOURCE_DIR}/${header} DESTINATION include/facetool/${dir}
@@ -37,6 +57,8 @@ set_target_properties(facetool_core PROPERTIES INSTALL_RPATH "$ORIGIN" EXPORT_NA
 install(TARGETS facetool RUNTIME DESTINATION bin COMPONENT runtime)
 install(TARGETS facetool_core EXPORT facetoolTargets
         LIBRARY DESTINATION lib COMPONENT runtime)
+set_target_properties(facetool_api PROPERTIES INSTALL_RPATH "$ORIGIN")
+install(TARGETS facetool_api EXPORT facetoolTargets LIBRARY DESTINATION lib COMPONENT runtime)
 if(TARGET facetool_backend_opencl)
   set_target_properties(facetool_backend_opencl PROPERTIES INSTALL_RPATH "$ORIGIN/..")
   install(TARGETS facetool_backend_opencl LIBRARY DESTINATION lib/facetool COMPONENT runtime)
@@ -45,7 +67,8 @@ endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/ DESTINATION share/facetool/models
         COMPONENT runtime FILES_MATCHING PATTERN "*.safetensors" PATTERN "README.md")
 
-# The SDK: CMake package (facetool::core, facetool_add_plugin, facetool_embed_kernels), pkg-config.
+# The SDK: CMake package (facetool::core, facetool::facetool, facetool_add_plugin,
+# facetool_embed_kernels), pkg-config (facetool: the core; facetool-api: libfacetool).
 set(cmake_dir lib/cmake/facetool)
 install(EXPORT facetoolTargets NAMESPACE facetool:: FILE facetoolTargets.cmake
         DESTINATION ${cmake_dir} COMPONENT dev)

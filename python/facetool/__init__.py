@@ -1,0 +1,82 @@
+"""facetool: intrinsic face decomposition of photos (albedo, normals, SH visibility, SH light).
+
+    import facetool
+    photo = facetool.decompose(image)        # (H, W, 3) uint8 sRGB or float linear RGB, or a path
+    for face in photo.faces:
+        face.albedo, face.normal, face.visibility, face.light   # crop frame, (S, S, C) / (3, 9)
+        face.landmarks, face.coverage                           # photo frame
+    photo.albedo, photo.normal                                  # (H, W, C) pasted back
+    relit = facetool.relight(photo, facetool.light_from_dpr([...]))
+
+See docs/python.md. Computation releases the GIL; one Model runs one call at a time.
+"""
+
+import os as _os
+
+# Installed by pip, the shipped model lies in the package (facetool/models); the build tree's and the
+# system install's are found from libfacetool_core's folder.
+_package_models = _os.path.join(_os.path.dirname(__file__), "models")
+if not _os.environ.get("FACETOOL_MODEL_DIR") and _os.path.isdir(_package_models):
+    _os.environ["FACETOOL_MODEL_DIR"] = _package_models
+
+from ._facetool import (  # noqa: E402,F401
+    Error,
+    Face,
+    Model,
+    Photo,
+    backends,
+    default_model_path,
+    light_from_dpr,
+    light_from_sfsnet,
+    light_to_dpr,
+    light_to_sfsnet,
+    read_image,
+    read_light,
+)
+
+__all__ = [
+    "Error", "Face", "Model", "Photo", "backends", "decompose", "default_model_path", "light_from_dpr",
+    "light_from_sfsnet", "light_to_dpr", "light_to_sfsnet", "load_model", "read_image", "read_light", "relight",
+]
+
+_models = {}
+
+
+def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None):
+    """Loads a decomposition model (a facetool.Model).
+
+    weights: a .safetensors file (None: the shipped model, facetool-v1). backend: one of
+    facetool.backends() ("cpu", "opencl", ...). renderer: the renderer plugin. landmark_model:
+    dlib's 68-point shape predictor (None: Debian libdlib-data's; research use only).
+    """
+    return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model)
+
+
+def _default_model(backend):
+    if backend not in _models:
+        _models[backend] = load_model(backend=backend)
+    return _models[backend]
+
+
+def decompose(image, model=None, backend="cpu", **options):
+    """Decomposes every face of a photo; returns a facetool.Photo.
+
+    image: (H, W, 3) numpy array (uint8: sRGB; float32/float64: linear RGB) or a file path.
+    model: a facetool.Model (None: the shipped model on `backend`, loaded once).
+    options: max_faces, min_face_size, min_score, forehead, feather, batch (see Model.decompose).
+    Raises facetool.Error when no face is found, TypeError/ValueError for an unusable array.
+    """
+    model = model if model is not None else _default_model(backend)
+    if isinstance(image, str):
+        return model.decompose_file(image, **options)
+    return model.decompose(image, **options)
+
+
+def relight(photo, light, model=None, backend="cpu", **options):
+    """Relights a decomposed photo with `light` ((3, 9) SH in the photo frame); returns (H, W, 3).
+
+    model: the facetool.Model that decomposed it (None: the default model on `backend`).
+    options: mode ("ratio" or "render"), visibility (False: no self-shadowing), ratio_epsilon.
+    """
+    model = model if model is not None else _default_model(backend)
+    return model.relight(photo, light, **options)

@@ -1,0 +1,442 @@
+// The Python module facetool._facetool (pybind11): photos as numpy arrays in, each face's
+// albedo, normals, visibility, light, landmarks and mask out, in the crop and in the photo frame.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/backend/registry.h"
+#include "core/face/face_detector.h"
+#include "core/face/photo_reader.h"
+#include "core/inference/decomposer.h"
+#include "core/inference/model_loading.h"
+#include "core/io/image_io.h"
+#include "core/light/light_formats.h"
+#include "core/model/default_model.h"
+#include "core/photo/photo_pipeline.h"
+#include "core/photo/relight_pipeline.h"
+#include "core/util/error.h"
+#include "core/util/image_limits.h"
+
+namespace py = pybind11;
+
+namespace facetool {
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style>;
+
+// Planar [channels][h*w] values as a new (h, w, channels) float32 array.
+FloatArray hwc_array(const float* planar, int channels, int h, int w) {
+  FloatArray out({static_cast<py::ssize_t>(h), static_cast<py::ssize_t>(w), static_cast<py::ssize_t>(channels)});
+  float* dst = out.mutable_data();
+  const size_t plane = static_cast<size_t>(w) * h;
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < channels; ++c) dst[p * channels + c] = planar[c * plane + p];
+  return out;
+}
+
+// One plane [h*w] as a new (h, w) float32 array.
+FloatArray hw_array(const float* plane, int h, int w) {
+  FloatArray out({static_cast<py::ssize_t>(h), static_cast<py::ssize_t>(w)});
+  std::copy_n(plane, static_cast<size_t>(w) * h, out.mutable_data());
+  return out;
+}
+
+std::string shape_text(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// A photo given as a numpy array: (height, width, 3) RGB, channels last. uint8 values are taken
+// as sRGB-encoded and decoded to linear; float32/float64 values as linear RGB (finite).
+RgbImage image_from_array(const py::handle& object, const char* what) {
+  if (!py::isinstance<py::array>(object))
+    throw py::type_error(std::string(what) + " must be a numpy array of shape (height, width, 3), not " +
+                         py::str(py::type::of(object)).cast<std::string>());
+  const py::array a = py::reinterpret_borrow<py::array>(object);
+  if (a.ndim() != 3 || a.shape(2) != 3)
+    throw py::value_error(std::string(what) + " must have shape (height, width, 3): RGB with the channels last; got shape " +
+                          shape_text(a) + (a.ndim() == 3 && a.shape(0) == 3 ? " (channels first? use image.transpose(1, 2, 0))" : ""));
+  const char kind = a.dtype().kind();
+  const py::ssize_t item = a.dtype().itemsize();
+  const bool is_uint8 = kind == 'u' && item == 1, is_float = kind == 'f' && (item == 4 || item == 8);
+  if (!is_uint8 && !is_float)
+    throw py::type_error(std::string(what) + " must be uint8 (sRGB) or float32/float64 (linear RGB); got dtype " +
+                         py::str(a.dtype()).cast<std::string>());
+  const py::ssize_t h = a.shape(0), w = a.shape(1);
+  if (h < 1 || w < 1 || h > kMaxImageSide || w > kMaxImageSide ||
+      static_cast<uint64_t>(h) * static_cast<uint64_t>(w) > kMaxImagePixels)
+    throw py::value_error(std::string(what) + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                          " pixels; facetool takes 1 to " + std::to_string(kMaxImageSide) + " pixels a side and at most " +
+                          std::to_string(kMaxImagePixels) + " pixels");
+  RgbImage image;
+  image.width = static_cast<int>(w);
+  image.height = static_cast<int>(h);
+  image.pixels.resize(static_cast<size_t>(w) * h * 3);
+  if (is_uint8) {
+    // forcecast also copies arrays of any stride (slices, transposes) into C order.
+    const auto c = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    const uint8_t* src = c.data();
+    for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = srgb_to_linear(src[i] / 255.0f);
+  } else {
+    const auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+    const float* src = c.data();
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+      if (!std::isfinite(src[i]))
+        throw py::value_error(std::string(what) + " holds a non-finite value (NaN or infinity) at pixel (" +
+                              std::to_string(i / 3 % w) + ", " + std::to_string(i / 3 / w) + ")");
+      image.pixels[i] = src[i];
+    }
+  }
+  return image;
+}
+
+// A light as 27 numbers (channel-major R0..R8 G0..G8 B0..B8) from a (3, 9) or (27,) array.
+sh::RgbLight light_from_array(const py::handle& object) {
+  if (!py::isinstance<py::array>(object) && !py::isinstance<py::sequence>(object))
+    throw py::type_error("a light must be a numpy array of shape (3, 9) or (27,) (R, G, B rows of 9 SH coefficients)");
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(object);
+  if (!a) throw py::type_error("a light must be numbers: a (3, 9) or (27,) array");
+  if (!((a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 9) || (a.ndim() == 1 && a.shape(0) == 27)))
+    throw py::value_error("a light must have shape (3, 9) or (27,) (R, G, B rows of 9 SH coefficients); got shape " +
+                          shape_text(a));
+  sh::RgbLight light{};
+  for (int i = 0; i < sh::kLightCoeffCount; ++i) {
+    light[i] = a.data()[i];
+    if (!std::isfinite(light[i])) throw py::value_error("the light holds a non-finite value (NaN or infinity)");
+  }
+  return light;
+}
+
+py::array_t<double> light_array(const sh::RgbLight& light) {
+  py::array_t<double> out({3, 9});
+  std::copy(light.begin(), light.end(), out.mutable_data());
+  return out;
+}
+
+py::array_t<double> landmarks_array(const Landmarks68& landmarks, const Similarity2* transform) {
+  py::array_t<double> out({kLandmarkCount, 2});
+  double* d = out.mutable_data();
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    const Point2 p = transform ? transform->apply(landmarks[i]) : landmarks[i];
+    d[i * 2] = p.x;
+    d[i * 2 + 1] = p.y;
+  }
+  return out;
+}
+
+// A decomposed photo shared by its Photo and Face objects.
+using SharedPhoto = std::shared_ptr<const DecomposedPhoto>;
+
+struct Face {
+  SharedPhoto photo;
+  int index = 0;
+  const FaceCrop& crop() const { return photo->crops[index]; }
+  FloatArray planes(const std::vector<float>& all, int channels) const {
+    const int s = photo->crop_size;
+    return hwc_array(all.data() + static_cast<size_t>(index) * channels * s * s, channels, s, s);
+  }
+};
+
+struct Photo {
+  SharedPhoto photo;
+};
+
+class Model;
+
+// Photo-pipeline options of decompose(), as keyword arguments.
+PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_score, bool forehead,
+                                double feather, int batch) {
+  if (max_faces < 0) throw py::value_error("max_faces must be 0 (all) or more");
+  if (!(min_face_size >= 0)) throw py::value_error("min_face_size must be 0 (automatic) or more");
+  if (!(feather >= 0) || feather > 256) throw py::value_error("feather must be between 0 and 256 crop pixels");
+  if (batch < 1 || batch > 1024) throw py::value_error("batch must be between 1 and 1024");
+  if (!std::isfinite(min_score)) throw py::value_error("min_score must be a finite number");
+  PhotoInferOptions o;
+  o.detection.max_faces = max_faces;
+  o.detection.min_face_size = min_face_size;
+  o.detection.score_threshold = min_score;
+  o.extend_forehead = forehead;
+  o.feather = feather;
+  o.batch = batch;
+  return o;
+}
+
+// A loaded model: the network and renderer plugins on one backend, and the face detector.
+class Model {
+ public:
+  Model(const std::string& weights, const std::string& backend, const std::string& renderer,
+        const std::string& landmark_model)
+      : landmark_model_(landmark_model.empty() ? kDefaultLandmarkModel : landmark_model) {
+    backend_ = &get_backend(backend);
+    plugins_.set_search_dirs(library_plugin_dirs());
+    plugins_.discover();
+    model_ = load_decomposition_model(plugins_, *backend_, weights, renderer);
+    decomposer_ = std::make_unique<Decomposer>(*model_.network, *model_.renderer);
+  }
+
+  Photo decompose(RgbImage image, const std::string& source, const PhotoInferOptions& options) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!detector_) detector_ = std::make_unique<FaceDetector>(landmark_model_);
+    PhotoDecomposer photos(*detector_, *decomposer_, *backend_, model_.input_size, options);
+    return Photo{std::make_shared<const DecomposedPhoto>(photos.decompose(std::move(image), source))};
+  }
+
+  RelitPhoto relight(const DecomposedPhoto& photo, const sh::RgbLight& light, const RelightSettings& settings) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (photo.crop_size != model_.input_size)
+      throw Error("this photo was decomposed by a model of " + std::to_string(photo.crop_size) +
+                  "-pixel crops; relight it with that model");
+    return relight_photo(photo, light, settings, *model_.renderer, *backend_);
+  }
+
+  const DecompositionModel& model() const { return model_; }
+  std::string backend_name() const { return backend_->name(); }
+
+ private:
+  std::mutex mutex_;
+  std::string landmark_model_;
+  Backend* backend_ = nullptr;
+  PluginLoader plugins_;
+  DecompositionModel model_;
+  std::unique_ptr<Decomposer> decomposer_;
+  std::unique_ptr<FaceDetector> detector_;
+};
+
+relight::Mode mode_from_name(const std::string& mode) {
+  if (mode == "ratio") return relight::Mode::Ratio;
+  if (mode == "render") return relight::Mode::Render;
+  throw py::value_error("mode must be 'ratio' (photo x new shading / old shading) or 'render' (albedo x new shading); got '" +
+                        mode + "'");
+}
+
+}  // namespace
+}  // namespace facetool
+
+PYBIND11_MODULE(_facetool, m) {
+  using namespace facetool;
+  m.doc() = "facetool: intrinsic face decomposition (albedo, normals, SH visibility, SH light) of photos.";
+  py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+  m.attr("Error").attr("__doc__") = "A facetool failure (unreadable file, no face found, missing model or plugin); the message says what to do.";
+
+  m.def("backends", &available_backends,
+        "Names of the compute backends that work on this machine (\"cpu\" always; \"opencl\" with a device).");
+  m.def("default_model_path", &default_model_path,
+        "Path of the shipped model (facetool-v1.safetensors); raises facetool.Error naming the folders searched.");
+
+  py::class_<Face>(m, "Face", "One face of a decomposed photo: crop-level results (crop frame) and where it lies in the photo.")
+      .def_property_readonly("index", [](const Face& f) { return f.index; }, "Position among the photo's faces (best detection score first).")
+      .def_property_readonly("score", [](const Face& f) { return f.crop().face.score; }, "Detector score (HOG margin).")
+      .def_property_readonly("box", [](const Face& f) {
+            const DetectedFace& d = f.crop().face;
+            return py::make_tuple(d.left, d.top, d.right, d.bottom);
+          }, "Detector box (left, top, right, bottom) in photo pixels.")
+      .def_property_readonly("landmarks", [](const Face& f) { return landmarks_array(f.crop().face.landmarks, nullptr); },
+                             "(68, 2) landmarks (x, y) in photo pixels (iBUG 300-W layout).")
+      .def_property_readonly("landmarks_crop", [](const Face& f) {
+            return landmarks_array(f.crop().face.landmarks, &f.crop().alignment.photo_to_crop);
+          }, "(68, 2) landmarks in crop pixels.")
+      .def_property_readonly("photo_to_crop", [](const Face& f) {
+            const Similarity2& t = f.crop().alignment.photo_to_crop;
+            py::array_t<double> out({2, 3});
+            double* d = out.mutable_data();
+            d[0] = t.a; d[1] = -t.b; d[2] = t.tx; d[3] = t.b; d[4] = t.a; d[5] = t.ty;
+            return out;
+          }, "(2, 3) similarity taking photo pixels (x, y, 1) to crop pixels.")
+      .def_property_readonly("crop", [](const Face& f) {
+            const int s = f.photo->crop_size;
+            return hwc_array(f.crop().rgb.data(), 3, s, s);
+          }, "(S, S, 3) the aligned crop the network saw, linear RGB.")
+      .def_property_readonly("mask", [](const Face& f) {
+            const int s = f.photo->crop_size;
+            return hw_array(f.crop().mask.data(), s, s);
+          }, "(S, S) face mask of the crop: 1 inside the landmarks' hull, 0 outside.")
+      .def_property_readonly("albedo", [](const Face& f) { return f.planes(f.photo->decomposition.albedo, 3); },
+                             "(S, S, 3) albedo, linear RGB in [0, 1].")
+      .def_property_readonly("normal", [](const Face& f) { return f.planes(f.photo->decomposition.normal, 3); },
+                             "(S, S, 3) unit normals in the crop frame (+X right, +Y up, +Z towards the camera).")
+      .def_property_readonly("visibility", [](const Face& f) { return f.planes(f.photo->decomposition.visibility, 9); },
+                             "(S, S, 9) SH coefficients of the visibility, crop frame.")
+      .def_property_readonly("shading", [](const Face& f) { return f.planes(f.photo->decomposition.shading, 3); },
+                             "(S, S, 3) shading; reconstruction = albedo * shading.")
+      .def_property_readonly("reconstruction", [](const Face& f) { return f.planes(f.photo->decomposition.reconstruction, 3); },
+                             "(S, S, 3) the re-rendered crop.")
+      .def_property_readonly("light", [](const Face& f) {
+            sh::RgbLight light{};
+            for (int i = 0; i < sh::kLightCoeffCount; ++i)
+              light[i] = f.photo->decomposition.light[static_cast<size_t>(f.index) * sh::kLightCoeffCount + i];
+            return light_array(light);
+          }, "(3, 9) SH light in the crop frame (rows R, G, B).")
+      .def_property_readonly("light_photo", [](const Face& f) { return light_array(f.photo->photo_lights[f.index]); },
+                             "(3, 9) SH light turned into the photo's frame.")
+      .def_property_readonly("coverage", [](const Face& f) {
+            const PasteRegion& r = f.photo->regions[f.index];
+            const int w = f.photo->photo.width, h = f.photo->photo.height;
+            FloatArray out({static_cast<py::ssize_t>(h), static_cast<py::ssize_t>(w)});
+            float* d = out.mutable_data();
+            std::fill_n(d, static_cast<size_t>(w) * h, 0.0f);
+            for (int y = 0; y < r.height; ++y)
+              for (int x = 0; x < r.width; ++x)
+                d[static_cast<size_t>(r.y0 + y) * w + r.x0 + x] = r.alpha[static_cast<size_t>(y) * r.width + x];
+            return out;
+          }, "(H, W) this face's mask in the photo frame: its paste-back weight in [0, 1] (feathered edge).")
+      .def("__repr__", [](const Face& f) {
+        const DetectedFace& d = f.crop().face;
+        return "<facetool.Face " + std::to_string(f.index) + " score " + std::to_string(d.score) + ", box (" +
+               std::to_string(static_cast<int>(d.left)) + ", " + std::to_string(static_cast<int>(d.top)) + ", " +
+               std::to_string(static_cast<int>(d.right)) + ", " + std::to_string(static_cast<int>(d.bottom)) + ")>";
+      });
+
+  py::class_<Photo>(m, "Photo", "A decomposed photo: its faces and the layers pasted back at the photo's resolution.")
+      .def_property_readonly("faces", [](const Photo& p) {
+            std::vector<Face> faces;
+            for (size_t k = 0; k < p.photo->crops.size(); ++k) faces.push_back(Face{p.photo, static_cast<int>(k)});
+            return faces;
+          }, "The faces, best detection score first.")
+      .def_property_readonly("source", [](const Photo& p) { return p.photo->path; }, "The file it was read from, or \"\".")
+      .def_property_readonly("image", [](const Photo& p) {
+            const RgbImage& im = p.photo->photo;
+            FloatArray out({static_cast<py::ssize_t>(im.height), static_cast<py::ssize_t>(im.width), py::ssize_t{3}});
+            std::copy(im.pixels.begin(), im.pixels.end(), out.mutable_data());
+            return out;
+          }, "(H, W, 3) the photo, linear RGB.")
+      .def_property_readonly("crop_size", [](const Photo& p) { return p.photo->crop_size; }, "S, the network's crop size.")
+      .def_property_readonly("alpha", [](const Photo& p) {
+            return hw_array(p.photo->layers.alpha.data(), p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W) face coverage in [0, 1]; the layers below are premultiplied by it.")
+      .def_property_readonly("albedo", [](const Photo& p) {
+            return hwc_array(p.photo->layers.albedo.data(), 3, p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W, 3) albedo pasted back (premultiplied by alpha).")
+      .def_property_readonly("normal", [](const Photo& p) {
+            return hwc_array(p.photo->layers.normal.data(), 3, p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W, 3) normals in the photo frame (+X right, +Y up, +Z towards the viewer), premultiplied.")
+      .def_property_readonly("visibility", [](const Photo& p) {
+            return hwc_array(p.photo->layers.visibility.data(), 9, p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W, 9) visibility SH coefficients in the photo frame, premultiplied.")
+      .def_property_readonly("shading", [](const Photo& p) {
+            return hwc_array(p.photo->layers.shading.data(), 3, p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W, 3) shading pasted back, premultiplied.")
+      .def_property_readonly("reconstruction", [](const Photo& p) {
+            return hwc_array(p.photo->layers.reconstruction.data(), 3, p.photo->layers.height, p.photo->layers.width);
+          }, "(H, W, 3) re-rendered faces pasted back, premultiplied.")
+      .def("__len__", [](const Photo& p) { return p.photo->crops.size(); })
+      .def("__repr__", [](const Photo& p) {
+        return "<facetool.Photo " + std::to_string(p.photo->photo.width) + "x" + std::to_string(p.photo->photo.height) +
+               ", " + std::to_string(p.photo->crops.size()) + " face(s)>";
+      });
+
+  py::class_<Model, std::shared_ptr<Model>>(m, "Model", "A decomposition model: network and renderer plugins on one backend, and the face detector.")
+      .def(py::init([](const std::optional<std::string>& weights, const std::string& backend,
+                       const std::string& renderer, const std::optional<std::string>& landmark_model) {
+             py::gil_scoped_release release;
+             return std::make_shared<Model>(weights.value_or(""), backend, renderer, landmark_model.value_or(""));
+           }),
+           py::arg("weights") = py::none(), py::arg("backend") = "cpu", py::arg("renderer") = "sh_renderer",
+           py::arg("landmark_model") = py::none(),
+           "Loads `weights` (.safetensors; None: the shipped model) on `backend` (see facetool.backends()).\n"
+           "`landmark_model`: dlib's 68-point predictor (None: Debian libdlib-data's; research use only).")
+      .def("decompose", [](Model& model, const py::handle& image, int max_faces, double min_face_size, double min_score,
+                           bool forehead, double feather, int batch) {
+             RgbImage photo = image_from_array(image, "image");
+             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, forehead, feather, batch);
+             py::gil_scoped_release release;
+             return model.decompose(std::move(photo), "", options);
+           },
+           py::arg("image"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
+           py::arg("min_score") = 0.25, py::arg("forehead") = false, py::arg("feather") = 3.0, py::arg("batch") = 8,
+           "Finds every face of `image` ((H, W, 3) uint8 sRGB or float linear RGB), aligns it, decomposes it and\n"
+           "pastes the results back. Returns a facetool.Photo; raises facetool.Error when no face is found.")
+      .def("decompose_file", [](Model& model, const std::string& path, int max_faces, double min_face_size,
+                                double min_score, bool forehead, double feather, int batch) {
+             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, forehead, feather, batch);
+             py::gil_scoped_release release;
+             RgbImage photo;
+             try {
+               photo = read_photo(path);
+             } catch (const Error& e) {
+               throw Error("photo '" + path + "': " + e.what());
+             }
+             return model.decompose(std::move(photo), path, options);
+           },
+           py::arg("path"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
+           py::arg("min_score") = 0.25, py::arg("forehead") = false, py::arg("feather") = 3.0, py::arg("batch") = 8,
+           "decompose() of an image file (8-bit files decoded from sRGB, EXR/HDR linear).")
+      .def("relight", [](Model& model, const Photo& photo, const py::handle& light, const std::string& mode,
+                         bool visibility, double ratio_epsilon) {
+             RelightSettings settings;
+             settings.mode = mode_from_name(mode);
+             settings.visibility = visibility;
+             if (!(ratio_epsilon > 0) || ratio_epsilon > 1) throw py::value_error("ratio_epsilon must be in (0, 1]");
+             settings.ratio_epsilon = static_cast<float>(ratio_epsilon);
+             const sh::RgbLight new_light = light_from_array(light);
+             RelitPhoto relit;
+             {
+               py::gil_scoped_release release;
+               relit = model.relight(*photo.photo, new_light, settings);
+             }
+             FloatArray out({static_cast<py::ssize_t>(relit.image.height), static_cast<py::ssize_t>(relit.image.width), py::ssize_t{3}});
+             std::copy(relit.image.pixels.begin(), relit.image.pixels.end(), out.mutable_data());
+             return out;
+           },
+           py::arg("photo"), py::arg("light"), py::kw_only(), py::arg("mode") = "ratio", py::arg("visibility") = true,
+           py::arg("ratio_epsilon") = static_cast<double>(relight::kDefaultRatioEpsilon),
+           "Replaces every face's light of a decomposed `photo` by `light` ((3, 9) SH, photo frame): one render and a\n"
+           "paste-back, no network pass. mode 'ratio' keeps the photo's detail (photo x new / old shading), 'render'\n"
+           "gives albedo x new shading. visibility=False: open hemisphere (no self-shadowing). Returns (H, W, 3) linear RGB.")
+      .def_property_readonly("input_size", [](const Model& m) { return m.model().input_size; }, "The network's crop size S.")
+      .def_property_readonly("architecture", [](const Model& m) { return m.model().architecture; }, "The network plugin's name.")
+      .def_property_readonly("weights", [](const Model& m) { return m.model().weights_path; }, "The weights file loaded.")
+      .def_property_readonly("backend", [](const Model& m) { return m.backend_name(); }, "The backend it runs on.")
+      .def("__repr__", [](const Model& m) {
+        return "<facetool.Model " + m.model().architecture + " " + std::to_string(m.model().input_size) + "x" +
+               std::to_string(m.model().input_size) + " on " + m.backend_name() + " from '" + m.model().weights_path + "'>";
+      });
+
+  m.def("read_image", [](const std::string& path) {
+          RgbImage im;
+          {
+            py::gil_scoped_release release;
+            im = read_photo(path);
+          }
+          FloatArray out({static_cast<py::ssize_t>(im.height), static_cast<py::ssize_t>(im.width), py::ssize_t{3}});
+          std::copy(im.pixels.begin(), im.pixels.end(), out.mutable_data());
+          return out;
+        }, py::arg("path"), "Reads an image file as (H, W, 3) float32 linear RGB (8-bit files decoded from sRGB).");
+  m.def("light_from_sfsnet", [](const py::handle& values) {
+          const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+          if (!a || a.size() != 27) throw py::value_error("an SfSNet light is 27 numbers");
+          std::array<double, 27> v{};
+          std::copy_n(a.data(), 27, v.begin());
+          return light_array(light::from_sfsnet(v));
+        }, py::arg("values"), "A facetool (3, 9) light from SfSNet's 27 numbers (docs/conventions.md).");
+  m.def("light_to_sfsnet", [](const py::handle& light) {
+          const std::array<double, 27> v = light::to_sfsnet(light_from_array(light));
+          return py::array_t<double>(27, v.data());
+        }, py::arg("light"), "SfSNet's 27 numbers of a facetool (3, 9) light.");
+  m.def("light_from_dpr", [](const py::handle& values) {
+          const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+          if (!a || a.size() != 9) throw py::value_error("a DPR light is 9 numbers");
+          std::array<double, 9> v{};
+          std::copy_n(a.data(), 9, v.begin());
+          return light_array(light::from_dpr(v));
+        }, py::arg("values"), "A facetool (3, 9) light (grey) from DPR's 9 numbers (docs/conventions.md).");
+  m.def("light_to_dpr", [](const py::handle& light) {
+          const std::array<double, 9> v = light::to_dpr(light_from_array(light));
+          return py::array_t<double>(9, v.data());
+        }, py::arg("light"), "DPR's 9 numbers of a facetool (3, 9) light (Rec. 601 luma of R, G, B).");
+  m.def("read_light", [](const std::string& path, const std::optional<std::string>& format) {
+          if (format) {
+            const light::Format f = light::format_from_name(*format);
+            return light_array(light::read_light(path, &f).light);
+          }
+          return light_array(light::read_light(path).light);
+        }, py::arg("path"), py::arg("format") = py::none(),
+        "Reads a light file (facetool .json, SfSNet 27 values, DPR 9 values; format guessed unless given) as (3, 9).");
+}

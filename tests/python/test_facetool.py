@@ -1,0 +1,207 @@
+"""The Python module (import facetool) against independent references: numpy's own sRGB decoding
+and similarity transform, the renderer's identity reconstruction = albedo x shading, the facetool
+program's faces.json and photo.exr of the same photo, light-format round trips, the identity
+relighting; bad arrays raise clear Python exceptions; the GIL is released during compute."""
+
+import json
+import os
+import subprocess
+import tempfile
+import threading
+
+import numpy as np
+import pytest
+
+import facetool
+
+EXAMPLES = os.environ.get("FACETOOL_EXAMPLES_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "examples"))
+PHOTO = os.path.join(EXAMPLES, "photos", "astronaut.png")
+LANDMARKS = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"
+
+needs_photo_model = pytest.mark.skipif(
+    not os.path.exists(LANDMARKS) or not os.path.exists(PHOTO),
+    reason="dlib's landmark model (libdlib-data) or examples/photos/astronaut.png is missing")
+
+
+def srgb_to_linear(v):
+    v = v.astype(np.float64) / 255.0
+    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+
+
+@pytest.fixture(scope="module")
+def model():
+    try:
+        return facetool.load_model()
+    except facetool.Error as e:
+        pytest.skip(f"no shipped model: {e}")
+
+
+@pytest.fixture(scope="module")
+def photo(model):
+    if not os.path.exists(LANDMARKS) or not os.path.exists(PHOTO):
+        pytest.skip("dlib's landmark model or the example photo is missing")
+    return model.decompose_file(PHOTO)
+
+
+def test_backends_and_model(model):
+    assert "cpu" in facetool.backends()
+    assert model.backend == "cpu"
+    assert model.input_size > 0
+    assert model.weights.endswith(".safetensors")
+    with pytest.raises(facetool.Error, match="no-such-weights"):
+        facetool.load_model("no-such-weights.safetensors")
+    with pytest.raises(facetool.Error):
+        facetool.load_model(backend="no-such-backend")
+
+
+@needs_photo_model
+def test_shapes_and_layouts(photo, model):
+    s = model.input_size
+    h, w = photo.image.shape[:2]
+    assert len(photo.faces) >= 1 and len(photo) == len(photo.faces)
+    for f in photo.faces:
+        assert f.crop.shape == (s, s, 3) and f.albedo.shape == (s, s, 3) and f.normal.shape == (s, s, 3)
+        assert f.visibility.shape == (s, s, 9) and f.mask.shape == (s, s)
+        assert f.light.shape == (3, 9) and f.light_photo.shape == (3, 9)
+        assert f.landmarks.shape == (68, 2) and f.coverage.shape == (h, w)
+        assert f.albedo.dtype == np.float32
+        # the renderer's image is albedo x shading: checks the channel order of three arrays
+        np.testing.assert_allclose(f.reconstruction, f.albedo * f.shading, rtol=1e-4, atol=1e-5)
+        # unit normals inside the mask
+        lengths = np.linalg.norm(f.normal[f.mask > 0.5], axis=1)
+        np.testing.assert_allclose(lengths, 1.0, atol=1e-3)
+        # landmarks_crop is photo_to_crop applied to the photo landmarks (numpy's own product)
+        t = f.photo_to_crop
+        mapped = f.landmarks @ t[:, :2].T + t[:, 2]
+        np.testing.assert_allclose(f.landmarks_crop, mapped, atol=1e-9)
+        assert (f.coverage >= 0).all() and (f.coverage <= 1).all()
+    for name, c in [("alpha", None), ("albedo", 3), ("normal", 3), ("visibility", 9), ("shading", 3),
+                    ("reconstruction", 3)]:
+        a = getattr(photo, name)
+        assert a.shape == ((h, w) if c is None else (h, w, c)), name
+    # one face: its coverage is the photo's alpha
+    if len(photo.faces) == 1:
+        np.testing.assert_allclose(photo.faces[0].coverage, photo.alpha, atol=1e-6)
+
+
+@needs_photo_model
+def test_same_as_the_facetool_program(photo):
+    exe = os.environ.get("FACETOOL_EXE")
+    if not exe:
+        pytest.skip("FACETOOL_EXE not set (run through ctest)")
+    with tempfile.TemporaryDirectory() as out:
+        subprocess.run([exe, "infer", PHOTO, "-o", out, "--no-contact-sheet"], check=True,
+                       capture_output=True)
+        faces = json.load(open(os.path.join(out, "astronaut", "faces.json")))["faces"]
+        assert len(faces) == len(photo.faces)
+        for f, j in zip(photo.faces, faces):
+            np.testing.assert_allclose(f.landmarks, np.array(j["landmarks"]), atol=1e-6)
+            np.testing.assert_allclose(f.light_photo.reshape(27), np.array(j["light_photo_frame"]), rtol=1e-6,
+                                       atol=1e-7)
+            np.testing.assert_allclose(f.photo_to_crop, np.array(j["photo_to_crop"]), rtol=1e-6, atol=1e-6)
+        # the crop-level light file of face 0
+        path = os.path.join(out, "astronaut", "face_0", "light.json")
+        c = json.load(open(path))["coefficients"]
+        values = np.array([c["r"], c["g"], c["b"]])
+        np.testing.assert_allclose(photo.faces[0].light, values, rtol=1e-6, atol=1e-6)
+        np.testing.assert_allclose(facetool.read_light(path), values, rtol=1e-12)
+
+
+@needs_photo_model
+def test_uint8_is_decoded_from_srgb(model):
+    rgb8 = (np.clip(facetool.read_image(PHOTO), 0, 1) ** (1 / 2.2) * 255).round().astype(np.uint8)
+    a = model.decompose(rgb8)
+    b = model.decompose(srgb_to_linear(rgb8).astype(np.float32))
+    np.testing.assert_allclose(a.image, b.image, atol=1e-6)
+    np.testing.assert_allclose(a.faces[0].light, b.faces[0].light, atol=1e-5)
+
+
+@needs_photo_model
+def test_any_strides_and_float64(model):
+    image = facetool.read_image(PHOTO)
+    flipped = image[:, ::-1]  # a negative-stride view
+    a = model.decompose(flipped)
+    b = model.decompose(np.ascontiguousarray(flipped).astype(np.float64))
+    np.testing.assert_allclose(a.faces[0].albedo, b.faces[0].albedo, atol=1e-6)
+    np.testing.assert_array_equal(a.image, np.ascontiguousarray(flipped))
+
+
+@needs_photo_model
+def test_relight_with_own_light_returns_the_photo(photo, model):
+    if len(photo.faces) != 1:
+        pytest.skip("the identity transfer needs a photo with one face")
+    relit = facetool.relight(photo, photo.faces[0].light_photo, model=model)
+    assert relit.shape == photo.image.shape
+    np.testing.assert_allclose(relit, photo.image, atol=2e-3)
+    turned = model.relight(photo, facetool.light_from_dpr([0.8, 0, 0, 0.5, 0, 0, 0, 0, 0]))
+    assert np.abs(turned - photo.image).max() > 0.02
+
+
+def test_light_conversions_round_trip():
+    rng = np.random.default_rng(1)
+    v = rng.normal(size=27)
+    np.testing.assert_allclose(facetool.light_to_sfsnet(facetool.light_from_sfsnet(v)), v, atol=1e-12)
+    g = rng.normal(size=9)
+    np.testing.assert_allclose(facetool.light_to_dpr(facetool.light_from_dpr(g)), g, atol=1e-12)
+    grey = facetool.light_from_dpr(g)
+    np.testing.assert_allclose(grey[0], grey[1])  # grey: equal rows
+    np.testing.assert_allclose(grey[1], grey[2])
+
+
+def test_bad_arrays_raise_clear_exceptions(model):
+    with pytest.raises(TypeError, match="numpy array"):
+        model.decompose([[1, 2, 3]])
+    with pytest.raises(TypeError, match="dtype"):
+        model.decompose(np.zeros((8, 8, 3), dtype=np.int64))
+    with pytest.raises(TypeError, match="dtype"):
+        model.decompose(np.zeros((8, 8, 3), dtype=bool))
+    with pytest.raises(ValueError, match="channels first"):
+        model.decompose(np.zeros((3, 64, 64), dtype=np.float32))
+    with pytest.raises(ValueError, match=r"\(height, width, 3\)"):
+        model.decompose(np.zeros((64, 64), dtype=np.float32))
+    with pytest.raises(ValueError, match=r"\(height, width, 3\)"):
+        model.decompose(np.zeros((64, 64, 4), dtype=np.uint8))
+    with pytest.raises(ValueError, match="pixels"):
+        model.decompose(np.zeros((0, 5, 3), dtype=np.float32))
+    nan = np.zeros((16, 16, 3), dtype=np.float32)
+    nan[3, 4, 1] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        model.decompose(nan)
+    with pytest.raises(ValueError, match="max_faces"):
+        model.decompose(np.zeros((16, 16, 3), dtype=np.float32), max_faces=-1)
+    with pytest.raises(ValueError, match="SfSNet"):
+        facetool.light_from_sfsnet(np.zeros(26))
+    with pytest.raises(ValueError, match=r"\(3, 9\)"):
+        facetool.light_to_dpr(np.zeros((9, 3)))
+
+
+@needs_photo_model
+def test_no_face_and_bad_relight_inputs(model, photo):
+    with pytest.raises(facetool.Error, match="no face found"):
+        model.decompose(np.full((200, 300, 3), 0.5, dtype=np.float32))
+    with pytest.raises(facetool.Error, match="does-not-exist.png"):
+        model.decompose_file("does-not-exist.png")
+    with pytest.raises(ValueError, match="mode"):
+        model.relight(photo, photo.faces[0].light_photo, mode="bogus")
+    with pytest.raises(ValueError, match=r"\(3, 9\)"):
+        model.relight(photo, np.zeros(10))
+    with pytest.raises(TypeError):
+        model.relight("not a photo", photo.faces[0].light_photo)
+
+
+@needs_photo_model
+def test_gil_is_released_during_compute(model):
+    image = facetool.read_image(PHOTO)
+    done = threading.Event()
+    ticks = 0
+
+    def work():
+        model.decompose(image)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    while not done.is_set():  # runs only while the worker's call does not hold the GIL
+        ticks += 1
+    worker.join()
+    assert ticks > 1000
