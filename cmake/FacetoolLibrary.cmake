@@ -21,9 +21,7 @@ endfunction()
 # - `facetool_api` (libfacetool.so, installed as facetool::facetool): the same libraries in one
 #   shared library for programs that use facetool (decomposition, relighting, training); their own
 #   dependencies (OpenImageIO, dlib, Embree, MPI) stay private to it, so a user needs only
-#   facetool::core's headers and these libraries' headers;
-# - <build>/facetool_layers.txt, one line per library: name, its folders (from its sources, so it
-#   follows the folders wherever they move) and the libraries it declares (tests/layering).
+#   facetool::core's headers and these libraries' headers.
 function(facetool_finish_libraries)
   get_property(libraries GLOBAL PROPERTY FACETOOL_LIBRARIES)
   add_library(facetool_libraries INTERFACE)
@@ -43,6 +41,13 @@ function(facetool_finish_libraries)
     target_link_options(facetool_api PRIVATE -Wl,--no-undefined)
   endif()
 
+endfunction()
+
+# facetool_write_layers(), once every library and backend has its sources: <build>/facetool_layers.txt,
+# one line per library: its name, its folders (from its sources, so the check follows the folders
+# wherever they move) and the libraries it declares; tests/layering checks the includes against it.
+function(facetool_write_layers)
+  get_property(libraries GLOBAL PROPERTY FACETOOL_LIBRARIES)
   set(lines "# name|folders|declared libraries (written by cmake/FacetoolLibrary.cmake)\n")
   foreach(target facetool_core ${libraries})
     get_target_property(sources ${target} SOURCES)

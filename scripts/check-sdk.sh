@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The SDK stage of CI: installs build/ into a temporary prefix; checks its layout and that every
 # public header compiles alone against it (CMake package and pkg-config); builds examples/plugins
-# from a copy outside the repository against that prefix alone (no include or link path into the
-# source or build tree) and runs their tests with the installed facetool; then cpack -G DEB,
+# and the C++ API example examples/api from copies outside the repository against that prefix
+# alone (no include or link path into the source or build tree), runs the plugins' tests with the
+# installed facetool and the API example on a photo; then cpack -G DEB,
 # unpacks facetool and facetool-dev into a clean root (dpkg -x) and runs its `facetool plugins`
 # without LD_LIBRARY_PATH, and (as root) again in a chroot holding only the runtime package and
 # the libraries it needs.   usage: scripts/check-sdk.sh   (FACETOOL_JOBS: parallel jobs, 2)
@@ -25,7 +26,8 @@ cmake --install "$build" --prefix "$prefix" > "$work/install.log"
 for f in bin/facetool lib/libfacetool_core.so lib/facetool/plugins/sh_renderer.ftplugin.so \
          lib/facetool/plugins/paper_network.ftplugin.so lib/facetool/plugins/paper_losses.ftplugin.so \
          lib/cmake/facetool/facetoolConfig.cmake lib/cmake/facetool/facetoolTargets.cmake \
-         lib/pkgconfig/facetool.pc include/facetool/core/plugin/plugin_api.h; do
+         lib/pkgconfig/facetool.pc include/facetool/core/plugin/plugin_api.h \
+         lib/libfacetool.so include/facetool/core/photo/photo_pipeline.h; do
   [ -e "$prefix/$f" ] || fail "the install lacks $f"
 done
 if grep -q FACETOOL_BUILD_OPENCL:BOOL=ON "$build/CMakeCache.txt"; then
@@ -75,6 +77,26 @@ fi
 step "examples built against the prefix only"
 ctest --test-dir "$ex" --output-on-failure -j "$jobs" || fail "the examples' tests"
 step "examples' tests passed"
+
+# 3a. The C++ API example (facetool::facetool), from a copy outside the repository, against the
+# prefix alone; run on an example photo with the installed shipped model and plugins.
+cp -r examples/api "$work/api"
+api=$work/api-build
+cmake -S "$work/api" -B "$api" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" > "$work/api-configure.log" ||
+  { cat "$work/api-configure.log"; fail "configuring the API example"; }
+cmake --build "$api" > "$work/api-build.log" || { cat "$work/api-build.log"; fail "building the API example"; }
+if grep -n -e "$src" "$api/build.ninja" "$api/CMakeCache.txt" | head -5 | grep .; then
+  fail "the API example's build refers to the source or build tree"
+fi
+if [ -e models/facetool-v1.safetensors ] && [ -e /usr/share/dlib/shape_predictor_68_face_landmarks.dat ]; then
+  env -u FACETOOL_PLUGIN_PATH -u FACETOOL_MODEL_DIR "$api/decompose_photo" examples/photos/astronaut.png \
+    "$work/api-relit.png" > "$work/api-run.log" 2>&1 || { cat "$work/api-run.log"; fail "the API example failed"; }
+  grep -q "^face 0: score" "$work/api-run.log" || { cat "$work/api-run.log"; fail "the API example found no face"; }
+  [ -s "$work/api-relit.png" ] || fail "the API example wrote no relit photo"
+  step "the C++ API example built against the prefix decomposes and relights a photo"
+else
+  step "the C++ API example built against the prefix (not run: no shipped model or landmark model)"
+fi
 
 # 3b. The tutorial of docs/plugins.md, as written there: its three blocks, under 40 lines.
 tut=$work/tutorial

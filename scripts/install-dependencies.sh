@@ -11,6 +11,8 @@ packages=(
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
   libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
+  pybind11-dev python3-dev python3-numpy  # the Python module (import facetool; docs/python.md)
+  python3-pytest  # tests only: the Python module's tests (tests/python)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )
