@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 
@@ -84,7 +85,7 @@ void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<u
     right.y += face.landmarks[i + 6].y / 6;
   }
   const double roll = std::atan2(right.y - left.y, right.x - left.x);
-  if (std::abs(roll) < kRefitRollDeg * 3.14159265358979323846 / 180) return;
+  if (std::abs(roll) < kRefitRollDeg * kPi / 180) return;
   const double cx = (face.left + face.right) / 2, cy = (face.top + face.bottom) / 2;
   const double box = face.size();
   const long chip = std::clamp(std::lround(2 * box), 64L, 800L);  // the box plus a margin
@@ -168,7 +169,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
     const auto start = Clock::now();
     dlib::array2d<unsigned char> turned;
     const dlib::point_transform_affine to_turned =
-        dlib::rotate_image(grey, turned, degrees * 3.14159265358979323846 / 180.0,
+        dlib::rotate_image(grey, turned, degrees * kPi / 180.0,
                            dlib::interpolate_bilinear());
     const dlib::point_transform_affine back = dlib::inv(to_turned);
     detection_seconds_ += seconds_since(start);

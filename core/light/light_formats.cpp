@@ -17,11 +17,11 @@
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::light {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // SfSNet's position k holds the coefficient of facetool's basis function kSfsnetToPaper[k].
 constexpr int kSfsnetToPaper[9] = {0, 2, 3, 1, 6, 7, 5, 8, 4};
 

@@ -11,11 +11,11 @@
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_eval.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::light {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kSubsamples = 3;  // per axis, on the sphere's pixels (smooth outline)
 const std::array<float, 3> kBackground = {0.02f, 0.02f, 0.02f};
 const std::array<float, 3> kHatch = {0.15f, 0.4f, 1.0f};

@@ -6,10 +6,10 @@
 
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::relight {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 Mode mode_from_name(const std::string& name) {

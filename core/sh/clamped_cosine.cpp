@@ -5,10 +5,10 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
-constexpr double kPi = ShConstants::kPi;
 }
 
 double clamped_cosine_zonal(int l) {

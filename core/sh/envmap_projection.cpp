@@ -5,10 +5,10 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
-constexpr double kPi = ShConstants::kPi;
 }
 
 Vec3 equirect_direction(double u, double v) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/sh/sh_types.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 
@@ -19,7 +20,7 @@ namespace facetool::sh {
 // P_2^2 = 3 sin^2, P_2^0 = (3 cos^2 - 1) / 2 written in x = sin cos(phi), y = sin sin(phi),
 // z = cos (theta the colatitude, phi the azimuth from +x towards +y).
 struct ShConstants {
-  static constexpr double kPi = 3.14159265358979323846;
+  static constexpr double kPi = facetool::kPi;
   static constexpr double k0 = 0.28209479177387814347;   // 1 / (2 sqrt(pi))
   static constexpr double k1 = 0.48860251190291992159;   // sqrt(3 / (4 pi))
   static constexpr double k2 = 1.09254843059207907054;   // sqrt(15 / pi) / 2

@@ -4,12 +4,13 @@
 #include <cmath>
 
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 
 std::vector<Vec3> fibonacci_sphere(int count) {
   check(count > 0, "fibonacci_sphere: the number of directions must be positive, got ", count);
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   const double golden_angle = pi * (3.0 - std::sqrt(5.0));
   std::vector<Vec3> dirs(static_cast<size_t>(count));
   for (int s = 0; s < count; ++s) {

@@ -1,5 +1,6 @@
 // Tripling coefficients of the degree <= 2 real SH (closed forms) and SH product integrals.
 #include "core/sh/triple_product.h"
+#include "core/util/math_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@
 namespace facetool::sh {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Distinct nonzero T_ijk, i <= j <= k, 0-based. Derived by expanding the products of the
 // polynomials in sh_basis.h and integrating monomials over the sphere

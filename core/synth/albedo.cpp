@@ -1,5 +1,6 @@
 // Procedural albedo: anchored skin-tone ramp, smooth value noise, landmark-shaped lips and brows.
 #include "core/synth/albedo.h"
+#include "core/util/math_constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -225,7 +226,7 @@ Vec3f AlbedoModel::evaluate(const AlbedoParams& params, FacePart part, Vec3f p) 
     case FacePart::kIris: {
       if (!has_eyes_) return clamp01(params.iris);
       const Vec3f d = normalized(p - eye_centre_[p.x >= 0 ? 0 : 1]);
-      const float angle = std::acos(std::clamp(d.z, -1.0f, 1.0f)) * (180.0f / 3.14159265f);
+      const float angle = std::acos(std::clamp(d.z, -1.0f, 1.0f)) * (180.0f / static_cast<float>(kPi));
       const float t = angle / kIrisHalfAngleDeg;  // 0 at the pupil centre, 1 at the limbus
       const Vec3f pupil{0.01f, 0.01f, 0.01f};
       const Vec3f ring = params.iris * (0.75f + 0.5f * t);  // lighter towards the limbus

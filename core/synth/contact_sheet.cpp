@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 
@@ -15,7 +16,7 @@ RgbImage make_contact_sheet(const std::vector<SynthSample>& samples) {
   sheet.width = columns * w + (columns - 1) * gap;
   sheet.height = static_cast<int>(samples.size()) * (h + gap) - gap;
   sheet.pixels.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 1.0f);
-  const float inv_sqrt_pi = 1.0f / std::sqrt(3.14159265f);
+  const float inv_sqrt_pi = 1.0f / std::sqrt(static_cast<float>(kPi));
   for (size_t row = 0; row < samples.size(); ++row) {
     const SynthSample& s = samples[row];
     check(s.width == w && s.height == h, "contact sheet: samples differ in size");

@@ -13,6 +13,7 @@
 #include "core/io/obj_reader.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -88,7 +89,7 @@ void mark_corneas(const ObjMesh& mesh, std::vector<FacePart>& parts) {
           points.push_back({mesh.positions[v][0], mesh.positions[v][1], mesh.positions[v][2]});
     if (points.size() < 4) continue;
     const Vec3f centre = fit_sphere_centre(points);
-    const float cos_limit = static_cast<float>(std::cos(kCorneaHalfAngleDeg * 3.14159265358979 / 180.0));
+    const float cos_limit = static_cast<float>(std::cos(kCorneaHalfAngleDeg * kPi / 180.0));
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
       if (!on_side(t)) continue;
       Vec3f centroid{};

@@ -6,6 +6,7 @@
 #include "core/synth/face_model.h"
 #include "core/synth/pose_camera.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 
@@ -19,7 +20,7 @@ std::vector<std::array<double, 2>> project_neutral_landmarks(const std::string& 
   Camera camera;
   camera.width = camera.height = 1;  // crop units: the projection is independent of the size
   camera.horizontal_fov_deg = fov_deg;
-  const double half = std::tan(0.5 * fov_deg * 3.14159265358979323846 / 180.0);
+  const double half = std::tan(0.5 * fov_deg * kPi / 180.0);
   std::vector<std::array<double, 2>> out(68);
   for (int i = 0; i < 68; ++i) {
     const int32_t v = model.landmarks()[i];

@@ -13,6 +13,7 @@
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -21,7 +22,6 @@ const char* const kBlenderStudioLightsDir = "/usr/share/blender/datafiles/studio
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string lower_extension(const fs::path& path) {
   std::string ext = path.extension().string();

@@ -1,12 +1,13 @@
 // Pose sampling and application, camera rays.
 #include "core/synth/pose_camera.h"
+#include "core/util/math_constants.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace facetool {
 namespace {
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+constexpr double kDegree = kPi / 180.0;
 }
 
 HeadPose sample_pose(Random& random, const PoseSampling& sampling) {

@@ -2,6 +2,7 @@
 #include "core/synth/random.h"
 
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 #include <cmath>
 
@@ -52,7 +53,7 @@ uint64_t Random::index(uint64_t count) {
 }
 
 double Random::normal() {
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   const double u1 = 1.0 - uniform();  // (0, 1]: log is finite
   const double u2 = uniform();
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * pi * u2);

@@ -4,6 +4,7 @@
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/triple_product.h"
 #include "core/synth/component_renderer.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
@@ -15,7 +16,7 @@ class ReferenceRenderer : public ComponentRenderer {
   void render(int pixels, const float* albedo, const float* normal, const float* visibility,
               const sh::RgbLight& light, float* image) const override {
     const auto& entries = sh::TripleProductTable::get().all_entries();
-    const double inv_pi = 1.0 / 3.14159265358979323846;
+    const double inv_pi = 1.0 / kPi;
     for (int p = 0; p < pixels; ++p) {
       const sh::Vec3 n{normal[p], normal[pixels + p], normal[2 * pixels + p]};
       const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);

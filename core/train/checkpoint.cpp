@@ -94,4 +94,15 @@ CheckpointState load_checkpoint(const std::string& path, NetworkPlugin& network,
   return s;
 }
 
+bool is_checkpoint(const SafeTensors& file) {
+  const auto& metadata = file.metadata();
+  const auto format = metadata.find("format");
+  return format != metadata.end() && format->second == kFormat;
+}
+
+void load_checkpoint_network(const SafeTensors& file, const std::string& path, NetworkPlugin& network) {
+  for (const auto& [name, p] : network.parameters()) restore(file, path, "network/" + name, p.value());
+  for (const auto& [name, t] : network.buffers()) restore(file, path, "network/" + name, t);
+}
+
 }  // namespace facetool

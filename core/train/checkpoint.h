@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/model/safetensors.h"
 #include "core/plugin/network_plugin.h"
 #include "core/train/adam_optimizer.h"
 
@@ -34,5 +35,11 @@ CheckpointState read_checkpoint_state(const std::string& path);
 // or of another shape. Returns the state.
 CheckpointState load_checkpoint(const std::string& path, NetworkPlugin& network,
                                 AdamOptimizer& optimizer);
+
+// Whether `file` is a checkpoint (metadata format "facetool-checkpoint") rather than a weights file.
+bool is_checkpoint(const SafeTensors& file);
+// Only the network's weights and buffers of checkpoint `file` (read from `path`), no moments and no
+// step: to start another run from it. Fails naming a tensor that is missing or of another shape.
+void load_checkpoint_network(const SafeTensors& file, const std::string& path, NetworkPlugin& network);
 
 }  // namespace facetool

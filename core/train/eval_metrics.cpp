@@ -7,12 +7,13 @@
 #include <limits>
 
 #include "core/sh/sh_gram.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 
 void normal_angles_deg(const float* p, const float* t, const float* mask, int64_t plane,
                        std::vector<double>& angles) {
-  const double kDegrees = 180.0 / 3.14159265358979323846;
+  const double kDegrees = 180.0 / kPi;
   for (int64_t i = 0; i < plane; ++i) {
     if (mask[i] <= 0.5f) continue;
     double dot = 0, lp = 0, lt = 0;
@@ -27,25 +28,41 @@ void normal_angles_deg(const float* p, const float* t, const float* mask, int64_
   }
 }
 
-AngularSummary summarize_angles(const std::vector<double>& angles) {
+void AngleSums::add(double angle_deg) {
+  ++pixels;
+  sum += angle_deg;
+  sum_sq += angle_deg * angle_deg;
+  under20 += angle_deg < 20.0;
+  under25 += angle_deg < 25.0;
+  under30 += angle_deg < 30.0;
+}
+
+void AngleSums::add(const AngleSums& other) {
+  pixels += other.pixels;
+  sum += other.sum;
+  sum_sq += other.sum_sq;
+  under20 += other.under20;
+  under25 += other.under25;
+  under30 += other.under30;
+}
+
+AngularSummary AngleSums::summary() const {
   AngularSummary s;
-  s.pixels = static_cast<int64_t>(angles.size());
-  if (angles.empty()) return s;
-  double sum = 0, sq = 0;
-  for (double a : angles) {
-    sum += a;
-    sq += a * a;
-    s.under20 += a < 20.0;
-    s.under25 += a < 25.0;
-    s.under30 += a < 30.0;
-  }
-  const double n = static_cast<double>(angles.size());
+  s.pixels = pixels;
+  if (pixels == 0) return s;
+  const double n = static_cast<double>(pixels);
   s.mean = sum / n;
-  s.std = std::sqrt(std::max(0.0, sq / n - s.mean * s.mean));
-  s.under20 *= 100.0 / n;
-  s.under25 *= 100.0 / n;
-  s.under30 *= 100.0 / n;
+  s.std = std::sqrt(std::max(0.0, sum_sq / n - s.mean * s.mean));
+  s.under20 = static_cast<double>(under20) * (100.0 / n);
+  s.under25 = static_cast<double>(under25) * (100.0 / n);
+  s.under30 = static_cast<double>(under30) * (100.0 / n);
   return s;
+}
+
+AngularSummary summarize_angles(const std::vector<double>& angles) {
+  AngleSums sums;
+  for (double a : angles) sums.add(a);
+  return sums.summary();
 }
 
 double masked_mse(const float* a, const float* b, const float* mask, int channels, int64_t plane) {

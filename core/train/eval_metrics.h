@@ -18,6 +18,16 @@ struct AngularSummary {
 };
 AngularSummary summarize_angles(const std::vector<double>& angles);
 
+// The sufficient statistics of a set of angles, so that sets summarised apart (images, eval
+// shards) merge into the summary of their union: summarize_angles is AngleSums over its angles.
+struct AngleSums {
+  int64_t pixels = 0, under20 = 0, under25 = 0, under30 = 0;
+  double sum = 0, sum_sq = 0;
+  void add(double angle_deg);
+  void add(const AngleSums& other);
+  AngularSummary summary() const;
+};
+
 // Mean over masked pixels and the `channels` planes of (a - b)^2.
 double masked_mse(const float* a, const float* b, const float* mask, int channels, int64_t plane);
 

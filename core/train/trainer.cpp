@@ -6,6 +6,7 @@
 
 #include "core/autograd/functions.h"
 #include "core/autograd/synced_batch_norm.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 
@@ -269,7 +270,7 @@ ValidationRecord Trainer::validate() {
   if (!labelled || config_.validation_holdout_every == 0) return r;
   DatasetReader reader(backend_, reader_options(config_, *labelled, true));
   double sum = 0.0, sum_sq = 0.0;
-  const double kDegrees = 180.0 / 3.14159265358979323846;
+  const double kDegrees = 180.0 / kPi;
   for (int b = 0; b < config_.validation_batches; ++b) {
     const SyntheticBatch batch = reader.next();
     if (b > 0 && batch.epoch > 0) break;  // the validation part is smaller than asked for

@@ -44,7 +44,7 @@ struct ValidationRecord {
 class Trainer {
  public:
   // The network is built here from the configuration (width, input size) and initialised with
-  // `init_seed` unless restore() or load weights follow. Every term named in the configuration
+  // random weights from the configuration's `seed` unless restore() or load weights follow. Every term named in the configuration
   // must be provided by one of `losses` (checked here, before any step).
   Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<NetworkPlugin> network,
           std::shared_ptr<RendererPlugin> renderer,

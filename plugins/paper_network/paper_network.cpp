@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::paper_network {
 
@@ -70,7 +71,7 @@ void PaperNetwork::init_random(uint64_t seed) {
       const double std_dev = rule.gain / std::sqrt(static_cast<double>(rule.fan_in));
       for (size_t i = 0; i < values.size(); i += 2) {
         const double r = std::sqrt(-2.0 * std::log(uniform()));
-        const double angle = 2.0 * M_PI * uniform();
+        const double angle = 2.0 * kPi * uniform();
         values[i] = static_cast<float>(std_dev * r * std::cos(angle));
         if (i + 1 < values.size()) values[i + 1] = static_cast<float>(std_dev * r * std::sin(angle));
       }

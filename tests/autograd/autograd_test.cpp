@@ -7,6 +7,7 @@
 #include "core/autograd/functions.h"
 #include "core/ops/ops.h"
 #include "core/util/error.h"
+#include "tests/support/finite_difference.h"
 #include "tests/support/test_support.h"
 
 namespace facetool {
@@ -28,16 +29,12 @@ std::vector<float> numeric_gradient(const std::function<float()>& f, const Tenso
   std::vector<float> values = input.to_host();
   std::vector<float> grad(values.size());
   auto difference = [&](size_t i, float h) {
-    const float saved = values[i];
-    values[i] = saved + h;
+    const double d = central_difference(values[i], h, [&] {
+      input.copy_from_host(values);
+      return static_cast<double>(f());
+    });
     input.copy_from_host(values);
-    const double up = f();
-    values[i] = saved - h;
-    input.copy_from_host(values);
-    const double down = f();
-    values[i] = saved;
-    input.copy_from_host(values);
-    return (up - down) / (2.0 * h);
+    return d;
   };
   for (size_t i = 0; i < values.size(); ++i) {
     const double coarse = difference(i, step), fine = difference(i, step / 2);

@@ -15,11 +15,11 @@
 #include "core/synth/landmark_projection.h"
 #include "core/sh/sh_eval.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(SimilarityFit, RecoversAKnownTransformAndItsInverse) {
   std::mt19937 rng(3);

@@ -13,11 +13,11 @@
 #include "core/face/frame_rotation.h"
 #include "core/sh/sh_eval.h"
 #include "core/face/photo_reader.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string example(const std::string& name) {
   return std::string(FACETOOL_EXAMPLES_DIR) + "/photos/" + name;

@@ -14,6 +14,7 @@
 #include "core/synth/light_source.h"
 #include "core/synth/random.h"
 #include "core/synth/sample_generator.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
@@ -68,7 +69,7 @@ class SyntheticLandmarks : public ::testing::Test {
     camera.width = s.width;
     camera.height = s.height;
     camera.horizontal_fov_deg = s.fov_deg;
-    const double half = std::tan(0.5 * s.fov_deg * 3.14159265358979323846 / 180);
+    const double half = std::tan(0.5 * s.fov_deg * kPi / 180);
     Landmarks68 truth;
     for (int i = 0; i < kLandmarkCount; ++i) {
       const Vec3f p = mesh.positions[model_->landmarks()[i]];

@@ -15,11 +15,11 @@
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 sh::RgbLight random_light(unsigned seed) {
   std::mt19937 rng(seed);

@@ -19,12 +19,12 @@
 #include "core/light/light_formats.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_basis.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 
 struct CommandResult {
   int exit_code = -1;

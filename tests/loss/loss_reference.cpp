@@ -9,11 +9,11 @@
 #include "core/sh/sh_eval.h"
 #include "core/sh/sphere_samples.h"
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::testing {
 
 std::vector<double> reference_render(const HostBatch& b, const HostParts& parts) {
-  const double kPi = 3.14159265358979323846;
   const int64_t pixels = b.h * b.w;
   std::vector<double> image(b.n * 3 * pixels, 0.0);
   for (int64_t i = 0; i < b.n; ++i)

@@ -12,6 +12,7 @@
 #include "core/plugin/plugin_loader.h"
 #include "core/util/error.h"
 #include "loss_reference.h"
+#include "tests/support/finite_difference.h"
 #include "tests/support/test_support.h"
 
 namespace facetool::testing {
@@ -176,13 +177,7 @@ TEST(PaperLosses, GradientsMatchFiniteDifferencesOfReference) {
       std::vector<double> fd(values.size());
       double largest = 0.0;
       for (size_t i = 0; i < values.size(); ++i) {
-        const double h = 1e-6, keep = values[i];
-        values[i] = keep + h;
-        const double up = reference_term(term, c.batch, moved);
-        values[i] = keep - h;
-        const double down = reference_term(term, c.batch, moved);
-        values[i] = keep;
-        fd[i] = (up - down) / (2.0 * h);
+        fd[i] = central_difference(values[i], 1e-6, [&] { return reference_term(term, c.batch, moved); });
         largest = std::max(largest, std::fabs(fd[i]));
       }
       ASSERT_GT(largest, 1e-4) << term << " input " << k;

@@ -12,11 +12,11 @@
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kSize = 64;
 
 RendererPlugin& sh_renderer() {

@@ -6,6 +6,7 @@
 #include "core/backend/registry.h"
 #include "core/plugin/renderer_autograd.h"
 #include "render_fixture.h"
+#include "tests/support/finite_difference.h"
 #include "tests/support/test_support.h"
 
 namespace facetool::testing {
@@ -54,13 +55,9 @@ Grads analytic(const HostScene& s, const Loss& loss) {
 std::vector<float> finite_difference(const HostScene& s, const Loss& loss,
                                      std::vector<float> HostScene::*field, double eps) {
   std::vector<float> grad((s.*field).size());
-  for (size_t k = 0; k < grad.size(); ++k) {
-    HostScene plus = s, minus = s;
-    (plus.*field)[k] += static_cast<float>(eps);
-    (minus.*field)[k] -= static_cast<float>(eps);
-    const double h = double((plus.*field)[k]) - double((minus.*field)[k]);  // exact step in float
-    grad[k] = static_cast<float>((loss(plus) - loss(minus)) / h);
-  }
+  HostScene moved = s;
+  for (size_t k = 0; k < grad.size(); ++k)
+    grad[k] = static_cast<float>(central_difference((moved.*field)[k], eps, [&] { return loss(moved); }));
   return grad;
 }
 

@@ -11,11 +11,11 @@
 #include "render_fixture.h"
 #include "sphere_quadrature.h"
 #include "tests/support/test_support.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::testing {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 sh::Vec3 unit(const sh::Vec3& n) {
   const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);

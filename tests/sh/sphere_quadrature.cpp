@@ -1,12 +1,13 @@
 // Gauss-Legendre x uniform-azimuth quadrature on the sphere, split at the equator of an axis.
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 #include <cmath>
 
 namespace facetool::testing {
 
 void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   nodes.assign(static_cast<size_t>(n), 0.0);
   weights.assign(static_cast<size_t>(n), 0.0);
   for (int i = 0; i < n; ++i) {
@@ -38,7 +39,7 @@ void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weig
 
 double integrate_sphere(const std::function<double(const sh::Vec3&)>& f, int n_t, int n_phi,
                         const sh::Vec3& axis) {
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
   const sh::Vec3 a{axis[0] / len, axis[1] / len, axis[2] / len};
   // Orthonormal frame (e1, e2, a).

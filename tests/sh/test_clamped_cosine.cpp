@@ -8,11 +8,11 @@
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 double clamped_dot(const Vec3& w, const Vec3& n) {
   return std::fmax(0.0, w[0] * n[0] + w[1] * n[1] + w[2] * n[2]);

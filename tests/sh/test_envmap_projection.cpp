@@ -12,11 +12,11 @@
 #include "core/light/environment_map_file.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 class EnvmapTest : public ::testing::Test {
  protected:

@@ -5,11 +5,11 @@
 
 #include "core/sh/sh_basis.h"
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 TEST(ShBasis, ConstantsMatchTheirFormulas) {
   EXPECT_NEAR(ShConstants::k0, 1.0 / (2.0 * std::sqrt(kPi)), 1e-15);

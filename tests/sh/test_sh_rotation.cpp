@@ -10,11 +10,11 @@
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 Vec3 mul(const Mat3& r, const Vec3& w) {
   return {r[0][0] * w[0] + r[0][1] * w[1] + r[0][2] * w[2],

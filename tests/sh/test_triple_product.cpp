@@ -8,11 +8,11 @@
 #include "core/sh/sh_eval.h"
 #include "core/sh/triple_product.h"
 #include "sphere_quadrature.h"
+#include "core/util/math_constants.h"
 
 namespace facetool::sh {
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 ShCoeffs random_coeffs(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -8,6 +8,7 @@
 #include "core/synth/gbuffer.h"
 #include "core/synth/sample_generator.h"
 #include "synth_test_support.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
@@ -75,7 +76,7 @@ TEST_F(FaceSamples, LabelsAreInRangeAndTheLightIsScaledAsThePaper) {
       // v_0 lies between 0 (closed) and sqrt(pi) (open hemisphere), the latter up to the
       // sampling error of 300 directions (a horizon can cut a few more than half of them).
       EXPECT_GE(s.visibility[p], 0.0f);
-      EXPECT_LE(s.visibility[p], 1.05f * std::sqrt(3.14159265f));
+      EXPECT_LE(s.visibility[p], 1.05f * std::sqrt(static_cast<float>(kPi)));
       EXPECT_GT(s.depth[p], 3.5f);
       EXPECT_LT(s.depth[p], 8.5f);
     }

@@ -8,11 +8,11 @@
 
 #include "core/sh/envmap_projection.h"
 #include "core/synth/light_source.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(BlenderStudioLights, EachLoadsWithTheAmbientTermOfItsMap) {
   if (!std::filesystem::is_directory(kBlenderStudioLightsDir))

@@ -15,7 +15,6 @@
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Sphere generator: no pose, fixed field of view, the light as given (no rotation or tint).
 SampleGenerator make_sphere_generator(const std::string& light_file, int size,
@@ -209,6 +208,7 @@ TEST_F(SphereUnderKnownLight, BackgroundFolderFillsEverythingOutsideTheHead) {
 #include "core/plugin/plugin_loader.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/plugin_renderer.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {

@@ -1,5 +1,6 @@
 // Synth test helpers.
 #include "synth_test_support.h"
+#include "core/util/math_constants.h"
 
 #include <unistd.h>
 
@@ -39,7 +40,7 @@ ScratchDir::~ScratchDir() {
 
 FaceMesh make_sphere(int rings, int segments) {
   FaceMesh mesh;
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   mesh.positions.push_back({0, 1, 0});  // +Y pole
   for (int r = 1; r < rings; ++r) {
     const double theta = pi * r / rings;

@@ -8,11 +8,11 @@
 #include "core/synth/ray_scene.h"
 #include "core/synth/visibility.h"
 #include "synth_test_support.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Closed form of integral over {w.n > 0} of Y_i(w): the hemisphere indicator is zonal about n
 // with Funk-Hecke factors sqrt(pi) (l = 0), pi (l = 1) and 0 (l = 2, since the integral of

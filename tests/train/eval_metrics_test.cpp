@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/train/eval_metrics.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
@@ -15,7 +16,7 @@ TEST(EvalMetrics, NormalAnglesAndTable1Summary) {
   const int64_t plane = 5;
   std::vector<float> truth(15, 0.0f), pred(15, 0.0f), mask = {1, 1, 1, 1, 0};
   for (int i = 0; i < 5; ++i) {
-    const double r = deg[i] * 3.14159265358979323846 / 180.0;
+    const double r = deg[i] * kPi / 180.0;
     truth[2 * plane + i] = 1.0f;
     pred[1 * plane + i] = static_cast<float>(2.0 * std::sin(r));  // length 2: not normalised
     pred[2 * plane + i] = static_cast<float>(2.0 * std::cos(r));

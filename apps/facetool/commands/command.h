@@ -17,7 +17,7 @@ class UsageError : public Error {
   using Error::Error;
 };
 
-// What every command gets from the options common to all commands (see common_options.h).
+// What every command gets from the options common to all commands (common_options() in command_options.h).
 class CommandContext {
  public:
   std::string backend = "cpu";            // --backend

@@ -193,24 +193,18 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
     check(results[i].file != results[i - 1].file, "eval --merge: '", results[i].file,
           "' is in two shards; merge each shard's output once");
   check(!results.empty(), "eval --merge: the shards hold no images");
-  AngularSummary a;
-  double sum = 0, sq = 0;
+  AngleSums sums;
   for (const ImageResult& r : results) {
-    a.pixels += r.pixels;
-    sum += r.angle_sum;
-    sq += r.angle_sum_sq;
-    a.under20 += static_cast<double>(r.under20);
-    a.under25 += static_cast<double>(r.under25);
-    a.under30 += static_cast<double>(r.under30);
+    AngleSums image;
+    image.pixels = r.pixels;
+    image.sum = r.angle_sum;
+    image.sum_sq = r.angle_sum_sq;
+    image.under20 = r.under20;
+    image.under25 = r.under25;
+    image.under30 = r.under30;
+    sums.add(image);
   }
-  if (a.pixels > 0) {
-    const double n = static_cast<double>(a.pixels);
-    a.mean = sum / n;
-    a.std = std::sqrt(std::max(0.0, sq / n - a.mean * a.mean));
-    a.under20 *= 100.0 / n;
-    a.under25 *= 100.0 / n;
-    a.under30 *= 100.0 / n;
-  }
+  const AngularSummary a = sums.summary();
   fs::create_directories(out_dir);
   std::cout << write_outputs(out_dir, model, data, results, a);
   std::cerr << "merged " << shards.size() << " shards, " << results.size() << " images\n";

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "apps/facetool/commands/command.h"
+#include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 sh::Mat3 multiply(const sh::Mat3& a, const sh::Mat3& b) {
   sh::Mat3 out{};

@@ -16,13 +16,13 @@
 #include "core/light/light_formats.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/sh/sh_basis.h"
+#include "core/util/math_constants.h"
 
 namespace po = boost::program_options;
 
 namespace facetool {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct OutputPaths {
   std::string image, shading;

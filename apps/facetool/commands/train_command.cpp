@@ -1,21 +1,17 @@
-// `facetool train`: runs one training stage from a configuration file into a run folder.
+// `facetool train`: runs one training stage from a configuration file into a run folder (TrainingRun).
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
 #include "core/distributed/communicator.h"
-#include "core/util/atomic_file.h"
-#include "core/model/network_weights.h"
-#include "core/train/loss_curve.h"
 #include "core/train/trainer.h"
+#include "core/train/training_run.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -25,22 +21,6 @@ namespace {
 
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int signal) { g_stop_signal.store(signal); }
-
-// Reads RUN/log.jsonl, keeping the lines of steps <= `last_step` (a resumed run rewrites the
-// rest), and returns the (step, total) points of the training lines.
-std::vector<std::pair<double, double>> trim_log(const std::string& path, int64_t last_step) {
-  std::vector<std::pair<double, double>> points;
-  std::ifstream in(path);
-  std::string line, kept;
-  while (std::getline(in, line)) {
-    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.contains("step") || j["step"].get<int64_t>() > last_step) continue;
-    kept += line + "\n";
-    if (j.contains("total")) points.emplace_back(j["step"].get<double>(), j["total"].get<double>());
-  }
-  write_file_atomically(path, kept.data(), kept.size());
-  return points;
-}
 
 int run_train_command(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
@@ -95,141 +75,64 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   // folder and draws progress (docs/distributed.md).
   const std::unique_ptr<Communicator> comm = make_communicator();
   trainer.set_communicator(*comm);
-  const bool writer = comm->rank() == 0;
-
-  namespace fs = std::filesystem;
-  const std::string checkpoint = (fs::path(out) / "checkpoint.safetensors").string();
-  const std::string log_path = (fs::path(out) / "log.jsonl").string();
-  const std::string weights = (fs::path(out) / "weights.safetensors").string();
-  const std::string curve = (fs::path(out) / "loss.png").string();
-  std::vector<std::pair<double, double>> points;
-  if (resume) {
-    check(fs::exists(checkpoint), "--resume: '", checkpoint, "' does not exist; start the run ",
-          "without --resume");
-    trainer.restore(checkpoint);
-    if (writer) points = trim_log(log_path, trainer.steps_done());
-    if (writer) std::cerr << "resumed " << out << " at step " << trainer.steps_done() << "\n";
-  } else {
-    check(!fs::exists(checkpoint), "'", out, "' already holds a run (", checkpoint,
-          "); pass --resume to continue it or choose another --out");
-    fs::create_directories(out);
-    if (!from.empty()) {
-      const SafeTensors file = SafeTensors::read_file(from);
-      if (file.metadata().count("format") && file.metadata().at("format") == "facetool-checkpoint") {
-        for (const auto& [name, p] : network->parameters()) p.value().copy_from_host(file.floats("network/" + name));
-        for (const auto& [name, t] : network->buffers()) t.copy_from_host(file.floats("network/" + name));
-      } else {
-        const WeightsHeader header = read_weights_header(file, from);
-        check(header.config.width == config.width && header.config.input_size == config.input_size,
-              "--from '", from, "' holds width ", header.config.width, " input ",
-              header.config.input_size, " but '", config_path, "' asks for width ", config.width,
-              " input ", config.input_size);
-        load_network_weights(*network, file, from);
-      }
-    }
-    if (writer) std::ofstream(log_path, std::ios::trunc);
-  }
-  std::ofstream log;
-  if (writer) {
-    log.open(log_path, std::ios::app);
-    check(log.good(), "cannot write '", log_path, "'");
-  }
+  TrainingRunOptions run_options;
+  run_options.folder = out;
+  run_options.resume = resume;
+  run_options.from = from;
+  run_options.config_source = config_path;
+  run_options.time_limit_seconds = time_limit_minutes * 60.0;
+  TrainingRun run(trainer, config, *comm, run_options);
+  const bool writer = run.writer();
+  if (resume && writer) std::cerr << "resumed " << out << " at step " << trainer.steps_done() << "\n";
 
   g_stop_signal.store(0);
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
-  auto save_all = [&] {
-    if (!writer) return;
-    trainer.save(checkpoint);
-    save_network_weights(trainer.network(), config.network, weights);
-    write_loss_curve(curve, points);
-  };
-
-  const int64_t first = trainer.steps_done();
-  const auto start = std::chrono::steady_clock::now();
+  const int64_t first = run.first_step();
   int64_t images = 0;
   double last_draw = -1.0;
-  int exit_code = 0;
-  bool out_of_time = false;
-  while (trainer.steps_done() < config.steps) {
-    StepRecord r;
-    try {
-      r = trainer.step();
-    } catch (const TrainingDiverged& e) {
-      std::cerr << "\n" << e.what() << " (" << checkpoint << ")\n";
-      exit_code = 3;
-      break;
-    }
+  TrainingRun::Events events;
+  events.step = [&](const StepRecord& r, double elapsed) {
     images += r.images;
-    nlohmann::json line = {{"step", r.step}, {"total", r.total}, {"images", r.images},
-                           {"seconds", r.seconds_total}, {"seconds_data", r.seconds_data}};
-    for (const auto& [name, v] : r.terms) line["terms"][name] = v;
-    log << line.dump() << "\n" << std::flush;
-    points.emplace_back(static_cast<double>(r.step), r.total);
     const bool last = trainer.steps_done() == config.steps;
-    if (writer && (r.step % config.validation_every == 0 || last)) {
-      const ValidationRecord v = trainer.validate();
-      if (v.pixels > 0) {
-        log << nlohmann::json{{"step", v.step},
-                              {"validation", {{"normal_error_mean_deg", v.normal_error_mean_deg},
-                                              {"normal_error_std_deg", v.normal_error_std_deg},
-                                              {"pixels", v.pixels}}}}
-                   .dump()
-            << "\n"
-            << std::flush;
-        std::cerr << "\nstep " << v.step << ": validation normal error "
-                  << v.normal_error_mean_deg << " +- " << v.normal_error_std_deg << " deg\n";
-      }
+    if (elapsed - last_draw <= 0.2 && !last) return;
+    std::ostringstream label;
+    label << "train loss " << r.total;
+    const std::string text =
+        format_progress(label.str(), trainer.steps_done() - first, config.steps - first, elapsed, "step");
+    std::cerr << "\r" << text << " " << static_cast<double>(images) / std::max(elapsed, 1e-9) << " img/s";
+    if (time_limit_minutes > 0) {
+      const int left = static_cast<int>(std::max(0.0, time_limit_minutes * 60.0 - elapsed));
+      char clock[32];
+      std::snprintf(clock, sizeof clock, " (time limit in %d:%02d)", left / 60, left % 60);
+      std::cerr << clock;
     }
-    if (r.step % config.checkpoint_every == 0 && !last) save_all();
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (writer && (elapsed - last_draw > 0.2 || last)) {
-      std::ostringstream label;
-      label << "train loss " << r.total;
-      const std::string text =
-          format_progress(label.str(), trainer.steps_done() - first, config.steps - first, elapsed, "step");
-      std::cerr << "\r" << text << " " << static_cast<double>(images) / std::max(elapsed, 1e-9)
-                << " img/s";
-      if (time_limit_minutes > 0) {
-        const int left = static_cast<int>(std::max(0.0, time_limit_minutes * 60.0 - elapsed));
-        char clock[32];
-        std::snprintf(clock, sizeof clock, " (time limit in %d:%02d)", left / 60, left % 60);
-        std::cerr << clock;
-      }
-      std::cerr << std::flush;
-      last_draw = elapsed;
-    }
-    // A signal may reach the ranks at different steps: all stop at the step any rank saw it.
-    // The time limit goes by rank 0's clock, so that every rank stops after the same step. One
-    // sum carries both.
-    const bool late = writer && time_limit_minutes > 0 && elapsed >= time_limit_minutes * 60.0;
-    std::vector<double> stop{static_cast<double>(g_stop_signal.load()), late ? 1.0 : 0.0};
-    comm->allreduce_sum(stop);
-    if (stop[0] != 0) {
-      exit_code = 128 + (g_stop_signal.load() != 0 ? g_stop_signal.load() : SIGTERM);
-      break;
-    }
-    if (stop[1] != 0 && trainer.steps_done() < config.steps) {
-      out_of_time = true;
-      break;
-    }
-  }
+    std::cerr << std::flush;
+    last_draw = elapsed;
+  };
+  events.validation = [](const ValidationRecord& v) {
+    std::cerr << "\nstep " << v.step << ": validation normal error " << v.normal_error_mean_deg << " +- "
+              << v.normal_error_std_deg << " deg\n";
+  };
+  events.stop_signal = [] { return g_stop_signal.load(); };
+  const RunOutcome outcome = run.run(events);
+  if (outcome == RunOutcome::Diverged) std::cerr << "\n" << run.divergence() << " (" << run.checkpoint_path() << ")\n";
   if (writer) std::cerr << "\n";
-  if (exit_code == 3) {
-    if (writer) write_loss_curve(curve, points);
-    return exit_code;
+  int exit_code = 0;
+  if (outcome == RunOutcome::Diverged) {
+    exit_code = 3;
+  } else if (outcome == RunOutcome::Stopped) {
+    exit_code = 128 + (run.stop_signal() != 0 ? run.stop_signal() : SIGTERM);
+    if (writer)
+      std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
+                << run.checkpoint_path() << " (continue with --resume)\n";
+  } else if (writer && outcome == RunOutcome::OutOfTime) {
+    std::cerr << "time limit of " << time_limit_minutes << " min reached at step " << trainer.steps_done()
+              << " of " << config.steps << "; checkpoint written to " << run.checkpoint_path()
+              << " (continue with --resume); weights in " << run.weights_path() << "\n";
+  } else if (writer) {
+    std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << run.weights_path() << "\n";
   }
-  save_all();
-  if (writer && exit_code != 0)
-    std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
-              << checkpoint << " (continue with --resume)\n";
-  else if (writer && out_of_time)
-    std::cerr << "time limit of " << time_limit_minutes << " min reached at step "
-              << trainer.steps_done() << " of " << config.steps << "; checkpoint written to "
-              << checkpoint << " (continue with --resume); weights in " << weights << "\n";
-  else if (writer)
-    std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << weights << "\n";
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   return exit_code;

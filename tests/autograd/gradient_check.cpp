@@ -1,8 +1,9 @@
 // Finite-difference gradient checking: probe input elements, compare with the backward op.
-#include "tests/cpu/gradient_check.h"
+#include "tests/autograd/gradient_check.h"
 
 #include <cmath>
 
+#include "tests/support/finite_difference.h"
 #include "tests/support/test_support.h"
 
 namespace facetool::testing {
@@ -30,16 +31,11 @@ double objective(const Tensor& y, const std::vector<float>& r) {
     const std::vector<float> analytic = grads[k].to_host();
     const size_t stride = std::max<size_t>(1, values.size() / options.max_samples);
     for (size_t i = 0; i < values.size(); i += stride) {
-      const float original = values[i];
-      values[i] = original + options.step;
+      const double numeric = central_difference(values[i], options.step, [&] {
+        inputs[k].copy_from_host(values);
+        return objective(forward(inputs), r);
+      });
       inputs[k].copy_from_host(values);
-      const double plus = objective(forward(inputs), r);
-      values[i] = original - options.step;
-      inputs[k].copy_from_host(values);
-      const double minus = objective(forward(inputs), r);
-      values[i] = original;
-      inputs[k].copy_from_host(values);
-      const double numeric = (plus - minus) / (2.0 * options.step);
       const double error = std::abs(numeric - analytic[i]);
       if (!(error <= options.atol + options.rtol * std::abs(numeric)))
         return ::testing::AssertionFailure()
