@@ -14,6 +14,7 @@ namespace facetool {
 namespace {
 
 using testing::all_close;
+using testing::central_difference;
 using testing::random_tensor;
 using testing::random_values;
 

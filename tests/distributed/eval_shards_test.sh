@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # facetool eval --shard i/n on three shards, merged with eval --merge, equals one unsharded eval;
-# infer and pseudo-label --shard 0/2 and 1/2 into one folder write what one unsharded run writes;
+# infer and pseudo-label --shard 0/2 and 1/2 into one folder write what one unsharded run writes
+# (infer's contact sheets one per shard; photos named over the whole list);
 # with MPIRUN, `mpirun -np 2 facetool train` logs the one-process run's losses (1e-5 relative).
 # Usage: eval_shards_test.sh FACETOOL SHARED_DIR [MPIRUN]. Exits 77 (skip) without ../shared's
 # face model.
@@ -68,6 +69,27 @@ for inputs in "data/sample_*.exr" "inf/*/input.png"; do
   [ "$(ls pl | wc -l)" -eq 10 ] || { echo "FAIL: pseudo-label wrote $(ls pl | wc -l) files"; exit 1; }
   diff -r pl pl2 || { echo "FAIL: sharded pseudo-label of $inputs differs"; exit 1; }
 done
+# With their contact sheets: each shard writes its own sheet, none overwrites contact_sheet.png.
+for i in 0 1; do
+  "$facetool" infer --aligned --model $model data/sample_*.exr -o inf3 --shard $i/2 >/dev/null 2>&1
+done
+[ -s inf3/contact_sheet-0-of-2.png ] && [ -s inf3/contact_sheet-1-of-2.png ] && [ ! -e inf3/contact_sheet.png ] ||
+  { ls inf3; echo "FAIL: sharded infer's contact sheets"; exit 1; }
+diff -r -x 'contact_sheet*' inf inf3 || { echo "FAIL: sharded infer with sheets differs"; exit 1; }
+# Photos: two files named alike in two folders keep the whole list's names (x, x_2) in any shard.
+examples=$(cd "$(dirname "$0")/../../examples/photos" && pwd)
+if [ -e /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] && [ -e "$examples/astronaut.png" ]; then
+  mkdir -p p1 p2
+  cp "$examples/astronaut.png" p1/x.png
+  cp "$examples/astronaut.png" p2/x.png
+  for i in 0 1; do
+    "$facetool" infer --model $model p1/x.png p2/x.png -o photos --shard $i/2 --no-contact-sheet >/dev/null 2>&1
+  done
+  [ -s photos/x/photo.exr ] && [ -s photos/x_2/photo.exr ] ||
+    { ls photos; echo "FAIL: sharded photo names"; exit 1; }
+  "$facetool" infer --model $model p1/x.png p2/x.png -o photos1 --no-contact-sheet >/dev/null 2>&1
+  diff -r photos photos1 || { echo "FAIL: sharded photos differ from one run"; exit 1; }
+fi
 echo "sharded infer and pseudo-label equal unsharded runs"
 [ -n "$mpirun" ] || { echo "no mpirun: the 2-rank command-line run is not checked"; exit 0; }
 "$mpirun" --allow-run-as-root --oversubscribe -np 2 "$facetool" train --config smoke.json \
