@@ -120,10 +120,8 @@ TEST(PasteBack, AlignThenPasteBackReproducesThePhotoInsideTheMask) {
   const PasteRegion region = paste_region(photo.width, photo.height, a.photo_to_crop, size, polygon, 3.0);
 
   const size_t plane = static_cast<size_t>(photo.width) * photo.height;
-  std::vector<float> original(plane * 3), pasted;
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) original[c * plane + p] = photo.pixels[p * 3 + c];
-  pasted = original;
+  const std::vector<float> original = planar_from_rgb(photo);
+  std::vector<float> pasted = original;
   paste_channels(region, crop.data(), 3, pasted.data(), photo.width, photo.height);
 
   double inside_error = 0;

@@ -81,12 +81,7 @@ class SyntheticLandmarks : public ::testing::Test {
             << "the test's copy of the shape and pose no longer matches the generator's";
       }
     }
-    RgbImage image;
-    image.width = s.width;
-    image.height = s.height;
-    image.pixels.resize(s.plane() * 3);
-    for (size_t p = 0; p < s.plane(); ++p)
-      for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = s.image[c * s.plane() + p];
+    const RgbImage image = rgb_from_planar(s.image.data(), s.width, s.height);
     DetectionOptions options;
     options.min_face_size = 60;
     const std::vector<DetectedFace> faces = detector_->detect(image, options);

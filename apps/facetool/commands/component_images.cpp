@@ -84,15 +84,8 @@ bool is_float_image_file(const std::string& path) {
 
 std::vector<float> read_planar_crop(const std::string& path, int size) {
   const RgbImage image = read_rgb_image(path, !is_float_image_file(path));
-  const size_t plane = static_cast<size_t>(image.width) * image.height;
-  std::vector<float> planar(plane * 3);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const float v = image.pixels[p * 3 + c];
-      check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
-      planar[c * plane + p] = v;
-    }
-  return resize_planar(planar, 3, image.width, image.height, size, size);
+  for (const float v : image.pixels) check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
+  return resize_planar(planar_from_rgb(image), 3, image.width, image.height, size, size);
 }
 
 ComponentImage read_albedo_image(const std::string& path) {

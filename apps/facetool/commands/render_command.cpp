@@ -87,20 +87,13 @@ void check_same_size(const ComponentImage& image, const ComponentImage& referenc
 // A [3,H,W] planar result encoded as the PNG or EXR file `path`.
 FileContents encode_result(const std::string& path, const std::vector<float>& planes, int width,
                            int height, bool exr, const std::string& description) {
-  const size_t plane = static_cast<size_t>(width) * height;
   if (exr) {
     LayeredImage image(width, height, {"R", "G", "B"});
     std::copy(planes.begin(), planes.end(), image.pixels.begin());
     image.set_metadata("facetool:content", description);
     return {path, encode_exr(path, image)};
   } else {
-    RgbImage image;
-    image.width = width;
-    image.height = height;
-    image.pixels.resize(plane * 3);
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = planes[c * plane + p];
-    return {path, encode_png(path, image)};
+    return {path, encode_png(path, rgb_from_planar(planes.data(), width, height))};
   }
 }
 
