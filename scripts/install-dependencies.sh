@@ -12,6 +12,7 @@ packages=(
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
   libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
+  python3-numpy python3-openimageio  # the Yale B normal benchmark (scripts/yaleb_benchmark.py; its test needs numpy only)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )
 
