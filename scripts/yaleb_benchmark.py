@@ -755,7 +755,8 @@ def command_score(args):
         lines.append(f"| {label} | {r['photos']} | {100 * r['coverage']:.1f} % | "
                      f"{r['mean']:.1f} ± {r['std']:.1f} | {r['under20']:.1f} % | "
                      f"{r['under25']:.1f} % | {r['under30']:.1f} % |")
-    lights = list(next(iter(per_light.values())).keys())
+    order = [eval_stem("", a, e).split("_P00")[1] for a, e in EVAL_LIGHTS]
+    lights = [k for k in order if k in next(iter(per_light.values()))]
     lines += ["", "Mean angular error (°) by light (photos scored):", "",
               "| normals | " + " | ".join(lights) + " |", "| --- |" + " --- |" * len(lights)]
     for label, by in per_light.items():

@@ -102,8 +102,8 @@ class PhotometricStereo(unittest.TestCase):
         self.assertTrue(r["reliable"][30:40, 30:40].all())
 
     def test_saturated_samples_are_never_used(self):
-        """Expose 2.5x longer: a third of the lit samples clip at 255; the rest still give the
-        normals, and no clipped sample counts as an inlier."""
+        """Expose 2.5x longer: about half of the lit samples clip at 255; the rest still give
+        the normals, and no clipped sample counts as an inlier."""
         raw, _ = render(self.normal, self.disc, self.albedo, self.lights, self.rng, scale=750.0)
         r = yb.solve_photometric_stereo(raw, raw, self.lights)
         region = self.disc & (self.normal[..., 2] > 0.35) & r["reliable"]
