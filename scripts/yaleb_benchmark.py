@@ -1,23 +1,27 @@
 #!/usr/bin/env python3
 """Real-photo normal benchmark on Extended Yale B: photometric-stereo reference normals, baselines, scoring.
 
-    python3 scripts/yaleb_benchmark.py ps     [--data DIR] [--cache DIR]
-    python3 scripts/yaleb_benchmark.py infer  [--facetool BIN] [--cache DIR]      # shipped model
-    python3 scripts/yaleb_benchmark.py fit    --fit-bin BIN [--cache DIR]         # `facetool fit`
-    python3 scripts/yaleb_benchmark.py score  [--cache DIR] [--pred NAME=DIR ...] [--markdown FILE]
-    python3 scripts/yaleb_benchmark.py run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR]
+    /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
+      ps                                   reference normals, albedo, reliability masks
+      infer  [--facetool BIN]              the shipped model (as given, padded, --aligned)
+      fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
+      score  [--pred NAME=DIR ...] [--markdown FILE]
+      run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
 
-`ps` solves Lambertian photometric stereo per subject from its 64 single-strobe photos (ambient
-subtracted, saturated and shadowed samples rejected, robust iteratively re-weighted least squares)
-and writes, per subject, `CACHE/ps/<subject>/normal.exr` (camera frame: +X the viewer's right,
-+Y up, +Z towards the camera; (0,0,0) where unreliable), `albedo.exr`, `reliable.exr` (the
-reliability mask) and `stats.json`. `infer` runs `facetool infer` (the photo, and `--aligned`)
-on the evaluation photos (the frontal, +-25 and +-50 degree azimuth strobes at elevation 0);
-`fit` runs `facetool fit`. `score` scores every prediction folder (`DIR/<photo stem>/normal.exr`,
-or infer's `photo.exr`) against the PS normals inside the reliability mask, with the constant
-normal and a leave-one-out mean-face template on the same pixels, and prints the table (the
-paper's Table 1 form, plus coverage). `run` does all of it. docs/benchmarks.md has the method.
-The data stays in ../shared and the cache (default build/yaleb); nothing is written elsewhere.
+`ps` solves Lambertian photometric stereo per subject from its single-strobe photos (ambient
+subtracted; strobes within 80 degrees of the camera axis; saturated and shadowed samples never
+used; least squares with attached shadows and outliers rejected and solved again; one intensity
+gain per strobe calibrated over all subjects) and writes `CACHE/ps/<subject>/normal.exr`
+(camera frame: +X the viewer's right, +Y up, +Z towards the camera; (0,0,0) where unreliable),
+`albedo.exr`, `reliable.exr` (the reliability mask), `diagnostics.exr` and `stats.json`.
+`infer` runs `facetool infer` on the evaluation photos (the frontal, +-25 and +-50 degree
+azimuth strobes at elevation 0): as given, padded (cut back to the photo), and `--aligned`;
+it also gathers each subject's landmarks for the template. `score` scores every prediction
+folder (`DIR/<photo stem>/normal.exr`, or infer's `photo.exr`) against the PS normals inside the
+reliability mask (where the template is defined), with the constant normal and a leave-one-out
+mean-face template on the same pixels, and prints the tables (the paper's Table 1 form, plus
+coverage). docs/benchmarks.md has the method and the figures. The data stays where it is; all
+output goes to the cache (default build/yaleb).
 """
 import argparse
 import json
@@ -57,7 +61,7 @@ GAIN_ROUNDS = 3             # rounds of the per-strobe intensity calibration (0:
 GAIN_STRIDE = 3             # the calibration uses every GAIN_STRIDE-th pixel in each direction
 # The reliability mask: a pixel's PS normal is trusted when all of these hold.
 MIN_LIGHTS = 12             # inlier lights
-MAX_CONDITION = 6.0         # condition number (singular values) of the inlier light directions
+MAX_CONDITION = 6.0         # sqrt(largest / smallest eigenvalue) of the inlier directions' Gram
 MAX_RELATIVE_RESIDUAL = 0.15  # RMS residual / mean intensity over the inliers
 MIN_ALBEDO_FRACTION = 0.15  # albedo / the subject's median albedo
 
@@ -70,8 +74,11 @@ def fail(message):
 
 def read_pgm(path):
     """An 8- or 16-bit binary PGM (P5) as a float32 array (rows top to bottom)."""
-    with open(path, "rb") as f:
-        data = f.read()
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        fail(f"cannot read {path}: {e.strerror}")
     fields, pos = [], 0
     while len(fields) < 4:
         while pos < len(data) and data[pos:pos + 1].isspace():
@@ -88,7 +95,12 @@ def read_pgm(path):
         fields.append(data[start:pos])
     if fields[0] != b"P5":
         fail(f"{path}: not a binary PGM (P5)")
-    width, height, maxval = (int(v) for v in fields[1:])
+    try:
+        width, height, maxval = (int(v) for v in fields[1:])
+    except ValueError:
+        width = height = maxval = 0
+    if not (0 < width <= 32768 and 0 < height <= 32768 and 0 < maxval < 65536):
+        fail(f"{path}: a damaged PGM header (size or maximum value)")
     dtype = np.dtype(">u2") if maxval > 255 else np.dtype("u1")
     pixels = data[pos + 1:pos + 1 + width * height * dtype.itemsize]
     if len(pixels) != width * height * dtype.itemsize:
@@ -772,7 +784,8 @@ def command_score(args):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--data", default=DEFAULT_DATA, help="the yaleb-dev folder")
     parser.add_argument("--cache", default=DEFAULT_CACHE, help="where results go (default build/yaleb)")
     sub = parser.add_subparsers(dest="command", required=True)
