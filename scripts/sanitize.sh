@@ -41,11 +41,12 @@ if [ $# -gt 0 ]; then
   selection=(-R "$1")
 else
   # Left out: the cpu/opencl parity sweep and other opencl tests (no OpenCL here), the PyTorch
-  # parity runs (Python, minutes under ASan), the performance test (timings only), and the
+  # parity runs (Python, minutes under ASan), the Yale B benchmark test (Python only), the
+  # performance test (timings only), and the
   # script tests that drive programs outside the subset (training, MPI ranks, sharding) or the
   # whole CLI table (cli_bad_input_*: OpenImageIO leaks on libpng's error path, which LeakSanitizer
   # reports in every damaged-PNG case; scripts/valgrind-cli.sh covers those paths instead).
   # Tests of programs outside the subset show up as <program>_NOT_BUILT.
-  selection=(-E "_NOT_BUILT|Parity|[Oo]pencl|ProgramCache|pytorch_parity|SynthPerformance|cli_bad_input|distributed_|eval_shards|train_cli")
+  selection=(-E "_NOT_BUILT|Parity|[Oo]pencl|ProgramCache|pytorch_parity|SynthPerformance|cli_bad_input|distributed_|eval_shards|train_cli|yaleb_benchmark")
 fi
 ctest --test-dir "$build" -j "$jobs" --timeout 900 --output-on-failure "${selection[@]}"

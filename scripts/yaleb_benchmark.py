@@ -1,0 +1,831 @@
+#!/usr/bin/env python3
+"""Real-photo normal benchmark on Extended Yale B: photometric-stereo reference normals, baselines, scoring.
+
+    /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
+      ps                                   reference normals, albedo, reliability masks
+      infer  [--facetool BIN]              the shipped model (as given, padded, --aligned)
+      fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
+      score  [--pred NAME=DIR ...] [--markdown FILE]
+      run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
+
+`ps` solves Lambertian photometric stereo per subject from its single-strobe photos (ambient
+subtracted; strobes within 80 degrees of the camera axis; saturated and shadowed samples never
+used; least squares with attached shadows and outliers rejected and solved again; one intensity
+gain per strobe calibrated over all subjects) and writes `CACHE/ps/<subject>/normal.exr`
+(camera frame: +X the viewer's right, +Y up, +Z towards the camera; (0,0,0) where unreliable),
+`albedo.exr`, `reliable.exr` (the reliability mask), `diagnostics.exr` and `stats.json`.
+`infer` runs `facetool infer` on the evaluation photos (the frontal, +-25 and +-50 degree
+azimuth strobes at elevation 0): as given, padded (cut back to the photo), and `--aligned`;
+it also gathers each subject's landmarks for the template. `score` scores every prediction
+folder (`DIR/<photo stem>/normal.exr`, or infer's `photo.exr`) against the PS normals inside the
+reliability mask (where the template is defined), with the constant normal and a leave-one-out
+mean-face template on the same pixels, and prints the tables (the paper's Table 1 form, plus
+coverage). docs/benchmarks.md has the method and the figures. The data stays where it is; all
+output goes to the cache (default build/yaleb).
+"""
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import warnings
+
+try:
+    import numpy as np
+except ImportError:
+    sys.exit("yaleb_benchmark: needs numpy (Debian: python3-numpy; run it with /usr/bin/python3)")
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_DATA = os.path.join(ROOT, "..", "shared", "assets", "faces", "yaleb-dev")
+DEFAULT_CACHE = os.path.join(ROOT, "build", "yaleb")
+NAME_RE = re.compile(r"^(yaleB\d+)_P00A([+-]\d{3})E([+-]\d{2})\.pgm$")
+EVAL_LIGHTS = [(0, 0), (25, 0), (-25, 0), (50, 0), (-50, 0)]   # (azimuth, elevation), degrees
+
+# Yale B's azimuth sign in the camera frame (x = AZIMUTH_SIGN sin(a) cos(e)): a positive azimuth
+# lights the viewer's left (the subject's right) side of the image. `ps` re-checks it on the
+# images (which half of the face is brighter) and stops if the photos say otherwise.
+AZIMUTH_SIGN = -1.0
+
+# Photometric-stereo thresholds, in 8-bit camera units (DN) unless said otherwise.
+SATURATED_DN = 250          # a sample at or above this raw value is rejected (clipped)
+SHADOW_DN = 4.0             # below this (after ambient subtraction) a sample is a shadow
+SHADOW_RELATIVE = 0.06      # ... or below this fraction of the pixel's 90th-percentile value
+NOISE_DN = 1.5              # floor of the residual scale used to reject outliers
+OUTLIER_SIGMAS = 3.0        # |residual| above this many robust sigmas: cast shadow/specularity
+ITERATIONS = 6
+MAX_LIGHT_ANGLE = 80.0      # strobes further than this from the camera axis (degrees) are not used
+GAIN_ROUNDS = 3             # rounds of the per-strobe intensity calibration (0: all gains 1)
+GAIN_STRIDE = 3             # the calibration uses every GAIN_STRIDE-th pixel in each direction
+# The reliability mask: a pixel's PS normal is trusted when all of these hold.
+MIN_LIGHTS = 12             # inlier lights
+MAX_CONDITION = 6.0         # sqrt(largest / smallest eigenvalue) of the inlier directions' Gram
+MAX_RELATIVE_RESIDUAL = 0.15  # RMS residual / mean intensity over the inliers
+MIN_ALBEDO_FRACTION = 0.15  # albedo / the subject's median albedo
+
+
+def fail(message):
+    sys.exit(f"yaleb_benchmark: {message}")
+
+
+# ----------------------------------------------------------------------------------------- I/O
+
+def read_pgm(path):
+    """An 8- or 16-bit binary PGM (P5) as a float32 array (rows top to bottom)."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        fail(f"cannot read {path}: {e.strerror}")
+    fields, pos = [], 0
+    while len(fields) < 4:
+        while pos < len(data) and data[pos:pos + 1].isspace():
+            pos += 1
+        if data[pos:pos + 1] == b"#":
+            while pos < len(data) and data[pos:pos + 1] not in (b"\n", b"\r"):
+                pos += 1
+            continue
+        start = pos
+        while pos < len(data) and not data[pos:pos + 1].isspace():
+            pos += 1
+        if start == pos:
+            fail(f"{path}: truncated PGM header")
+        fields.append(data[start:pos])
+    if fields[0] != b"P5":
+        fail(f"{path}: not a binary PGM (P5)")
+    try:
+        width, height, maxval = (int(v) for v in fields[1:])
+    except ValueError:
+        width = height = maxval = 0
+    if not (0 < width <= 32768 and 0 < height <= 32768 and 0 < maxval < 65536):
+        fail(f"{path}: a damaged PGM header (size or maximum value)")
+    dtype = np.dtype(">u2") if maxval > 255 else np.dtype("u1")
+    pixels = data[pos + 1:pos + 1 + width * height * dtype.itemsize]
+    if len(pixels) != width * height * dtype.itemsize:
+        fail(f"{path}: truncated PGM pixels")
+    return np.frombuffer(pixels, dtype).reshape(height, width).astype(np.float32) * (255.0 / maxval)
+
+
+def oiio():
+    try:
+        import OpenImageIO
+    except ImportError:
+        fail("needs OpenImageIO's Python module (Debian: python3-openimageio; "
+             "scripts/install-dependencies.sh installs it)")
+    return OpenImageIO
+
+
+def write_exr(path, image, channels):
+    """Writes an H x W x C float32 image to an EXR (to a temporary name, then renamed)."""
+    OpenImageIO = oiio()
+    image = np.ascontiguousarray(image, dtype=np.float32)
+    if image.ndim == 2:
+        image = image[:, :, None]
+    spec = OpenImageIO.ImageSpec(image.shape[1], image.shape[0], image.shape[2], "float")
+    spec.channelnames = tuple(channels)
+    spec.attribute("compression", "zip")
+    tmp = f"{path}.tmp-{os.getpid()}.exr"
+    out = OpenImageIO.ImageOutput.create(tmp)
+    if out is None or not out.open(tmp, spec) or not out.write_image(image) or not out.close():
+        fail(f"cannot write {path}: {OpenImageIO.geterror()}")
+    os.replace(tmp, path)
+
+
+def write_png8(path, grey):
+    """Writes an H x W array of 0..255 values as an 8-bit grey PNG."""
+    OpenImageIO = oiio()
+    spec = OpenImageIO.ImageSpec(grey.shape[1], grey.shape[0], 1, "uint8")
+    out = OpenImageIO.ImageOutput.create(path)
+    data = np.ascontiguousarray(np.clip(np.rint(grey), 0, 255).astype(np.uint8)[:, :, None])
+    if out is None or not out.open(path, spec) or not out.write_image(data) or not out.close():
+        fail(f"cannot write {path}: {OpenImageIO.geterror()}")
+
+
+def read_exr_channels(path):
+    """An image file as (H x W x C float32, channel names)."""
+    OpenImageIO = oiio()
+    inp = OpenImageIO.ImageInput.open(path)
+    if inp is None:
+        fail(f"cannot read {path}: {OpenImageIO.geterror()}")
+    spec = inp.spec()
+    pixels = inp.read_image("float")
+    inp.close()
+    if pixels is None:
+        fail(f"cannot read the pixels of {path}")
+    pixels = np.asarray(pixels, np.float32).reshape(spec.height, spec.width, spec.nchannels)
+    return pixels, list(spec.channelnames)
+
+
+def read_normal_prediction(path):
+    """A predicted normal map: (H x W x 3 unit normals, H x W valid mask) from `normal.exr`
+    (3 channels, (0,0,0) where not covered) or infer's `photo.exr` (normal.X/Y/Z premultiplied
+    by A)."""
+    pixels, names = read_exr_channels(path)
+    if all(c in names for c in ("normal.X", "normal.Y", "normal.Z")):
+        n = np.stack([pixels[:, :, names.index(c)] for c in ("normal.X", "normal.Y", "normal.Z")], -1)
+        alpha = pixels[:, :, names.index("A")] if "A" in names else np.ones(n.shape[:2], np.float32)
+        valid = alpha >= 0.5
+        n = n / np.maximum(alpha, 1e-6)[:, :, None]
+    elif pixels.shape[2] >= 3:
+        n = pixels[:, :, :3]
+        valid = np.ones(n.shape[:2], bool)
+    else:
+        fail(f"{path}: expected 3 normal channels or normal.X/Y/Z, found {names}")
+    length = np.linalg.norm(n, axis=-1)
+    valid &= np.isfinite(length) & (length > 0.5)
+    n = np.where(valid[:, :, None], n / np.maximum(length, 1e-12)[:, :, None], 0.0)
+    return n.astype(np.float32), valid
+
+
+# ----------------------------------------------------------------------- photometric stereo
+
+def light_direction(azimuth_deg, elevation_deg, azimuth_sign=AZIMUTH_SIGN):
+    """Unit direction towards a strobe in the camera frame (+X right, +Y up, +Z to the viewer)."""
+    a, e = math.radians(azimuth_deg), math.radians(elevation_deg)
+    return np.array([azimuth_sign * math.sin(a) * math.cos(e), math.sin(e),
+                     math.cos(a) * math.cos(e)])
+
+
+def solve_photometric_stereo(intensity, raw, lights, saturated=SATURATED_DN,
+                             iterations=ITERATIONS):
+    """Robust Lambertian photometric stereo.
+
+    intensity: K x H x W (ambient subtracted), raw: K x H x W (the recorded values, for the
+    saturation test), lights: K x 3 unit directions. Returns a dict of H x W (x 3) arrays:
+    normal, albedo, lights (inlier count), condition, residual (relative RMS), reliable.
+    Per pixel: samples that are saturated or below the shadow threshold are never used; the
+    scaled normal b = albedo * n solves the inlier least squares sum_k (I_k - l_k . b)^2, then
+    samples the model predicts in attached shadow (l_k . b <= 0) or whose residual exceeds
+    OUTLIER_SIGMAS robust sigmas (1.4826 x median |residual|, floored) are dropped and it is
+    solved again, ITERATIONS times.
+    """
+    k, h, w = intensity.shape
+    i_flat = intensity.reshape(k, -1).astype(np.float64)
+    raw_flat = raw.reshape(k, -1)
+    lights = np.asarray(lights, np.float64)
+    usable = raw_flat < saturated
+    q90 = np.nanpercentile(np.where(usable, i_flat, np.nan), 90, axis=0)
+    q90 = np.nan_to_num(q90, nan=0.0)
+    base = usable & (i_flat > np.maximum(SHADOW_DN, SHADOW_RELATIVE * q90)[None, :])
+    inlier = base.copy()
+    outer = np.einsum("ki,kj->kij", lights, lights)          # K x 3 x 3
+    b = np.zeros((i_flat.shape[1], 3))
+    for _ in range(iterations + 1):
+        weights = inlier.astype(np.float64)
+        gram = np.einsum("kp,kij->pij", weights, outer)
+        rhs = np.einsum("kp,kp,ki->pi", weights, i_flat, lights)
+        solvable = inlier.sum(0) >= 3
+        gram[~solvable] = np.eye(3)
+        rhs[~solvable] = 0.0
+        b = np.linalg.solve(gram + 1e-9 * np.eye(3), rhs[:, :, None])[:, :, 0]
+        prediction = lights @ b.T                              # K x P
+        residual = i_flat - prediction
+        abs_res = np.where(inlier, np.abs(residual), np.nan)
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)   # pixels without any inlier
+            sigma = 1.4826 * np.nanmedian(abs_res, axis=0)
+        sigma = np.maximum(np.nan_to_num(sigma, nan=NOISE_DN), np.maximum(NOISE_DN, 0.02 * q90))
+        new = base & (prediction > 0) & (np.abs(residual) <= OUTLIER_SIGMAS * sigma[None, :])
+        if np.array_equal(new, inlier):
+            break
+        inlier = new
+    count = inlier.sum(0)
+    gram = np.einsum("kp,kij->pij", inlier.astype(np.float64), outer)
+    eig = np.linalg.eigvalsh(gram)                              # ascending
+    condition = np.sqrt(np.maximum(eig[:, 2], 1e-12) / np.maximum(eig[:, 0], 1e-12))
+    residual = i_flat - lights @ b.T
+    with np.errstate(all="ignore"):
+        rms = np.sqrt((np.where(inlier, residual, 0.0) ** 2).sum(0) / np.maximum(count, 1))
+        mean_i = np.where(inlier, i_flat, 0.0).sum(0) / np.maximum(count, 1)
+        relative = rms / np.maximum(mean_i, 1e-6)
+    albedo = np.linalg.norm(b, axis=1)
+    normal = b / np.maximum(albedo, 1e-12)[:, None]
+    good_albedo = albedo[(count >= MIN_LIGHTS) & (albedo > 0)]
+    median_albedo = float(np.median(good_albedo)) if good_albedo.size else 0.0
+    reliable = ((count >= MIN_LIGHTS) & (condition <= MAX_CONDITION)
+                & (relative <= MAX_RELATIVE_RESIDUAL) & (normal[:, 2] > 0)
+                & (albedo >= MIN_ALBEDO_FRACTION * median_albedo))
+    return {
+        "normal": normal.reshape(h, w, 3).astype(np.float32),
+        "albedo": albedo.reshape(h, w).astype(np.float32),
+        "lights": count.reshape(h, w),
+        "condition": condition.reshape(h, w).astype(np.float32),
+        "residual": relative.reshape(h, w).astype(np.float32),
+        "reliable": reliable.reshape(h, w),
+    }
+
+
+def list_subject(folder):
+    """The strobe photos of one subject folder: [(azimuth, elevation, path)], and the ambient."""
+    photos, ambient = [], None
+    for name in sorted(os.listdir(folder)):
+        m = NAME_RE.match(name)
+        if m:
+            photos.append((int(m.group(2)), int(m.group(3)), os.path.join(folder, name)))
+        elif name.endswith("_Ambient.pgm"):
+            ambient = os.path.join(folder, name)
+    return photos, ambient
+
+
+def subjects(data):
+    if not os.path.isdir(data):
+        fail(f"no Yale B folder at {data} (pass --data: the yaleb-dev folder of ../shared)")
+    found = sorted(d for d in os.listdir(data) if re.fullmatch(r"yaleB\d+", d)
+                   and os.path.isdir(os.path.join(data, d)))
+    if not found:
+        fail(f"{data} holds no yaleBNN subject folder")
+    return found
+
+
+def load_subject(data, subject):
+    photos, ambient = list_subject(os.path.join(data, subject))
+    if len(photos) < 16:
+        fail(f"{subject}: only {len(photos)} strobe photos found (expected 64)")
+    raw = np.stack([read_pgm(p) for _, _, p in photos])
+    amb = read_pgm(ambient) if ambient else np.zeros_like(raw[0])
+    intensity = np.maximum(raw - amb[None], 0.0)
+    return photos, raw, intensity
+
+
+def half_contrast(data, names, bright, dark, axis):
+    """Per subject, (first half - second half) brightness of photo `bright` minus photo `dark`
+    (name suffixes like A+050E+00), over the mean of both; halves along `axis` (1: left/right
+    of the image, 0: top/bottom)."""
+    votes = []
+    for s in names:
+        folder = os.path.join(data, s)
+        paths = [os.path.join(folder, f"{s}_P00{x}.pgm") for x in (bright, dark)]
+        if not all(os.path.exists(p) for p in paths):
+            continue
+        p, m = (read_pgm(x) for x in paths)
+        half = p.shape[axis] // 2
+        first = np.take(p, range(half), axis).mean() - np.take(m, range(half), axis).mean()
+        second = (np.take(p, range(half, p.shape[axis]), axis).mean()
+                  - np.take(m, range(half, p.shape[axis]), axis).mean())
+        votes.append(float((first - second) / max(1e-6, 0.5 * (p.mean() + m.mean()))))
+    return votes
+
+
+def check_signs(data, names):
+    """Checks the light-direction convention on the photos: a positive azimuth must light the
+    image's left half (the subject's right), a positive elevation the upper half. A global
+    mirror of all lights is invisible to the least-squares residual (it mirrors the normals
+    instead), so the photos themselves are the only check."""
+    checks = [("azimuth", "A+050E+00", "A-050E+00", 1, AZIMUTH_SIGN < 0,
+               "A+050 vs A-050: left half brighter"),
+              ("elevation", "A+000E+45", "A+000E-35", 0, True,
+               "A+000E+45 vs A+000E-35: upper half brighter")]
+    evidence = {}
+    for what, bright, dark, axis, expect_first, text in checks:
+        votes = half_contrast(data, names, bright, dark, axis)
+        if not votes:
+            fail(f"no {bright} / {dark} pair to check the {what} sign against")
+        yes = sum(1 for v in votes if v > 0)
+        print(f"{what} sign: {text} in {yes} of {len(votes)} subjects (mean relative contrast "
+              f"{np.mean(votes):+.2f})")
+        if (yes == len(votes)) != expect_first or (0 < yes < len(votes)):
+            fail(f"the photos contradict the {what} sign convention: check the data")
+        evidence[what] = votes
+    return evidence
+
+
+def used_lights(photos):
+    """Indices and camera-frame directions of the strobes within MAX_LIGHT_ANGLE of the axis."""
+    keep = [i for i, (a, e, _) in enumerate(photos)
+            if math.degrees(math.acos(light_direction(a, e)[2])) <= MAX_LIGHT_ANGLE + 1e-9]
+    return keep, np.stack([light_direction(photos[i][0], photos[i][1]) for i in keep])
+
+
+def calibrate_gains(stack, lights, rounds=GAIN_ROUNDS, stride=GAIN_STRIDE):
+    """Relative strobe intensities shared by all subjects (one rig): alternately solve the PS
+    on a pixel subsample of every subject and set each strobe's gain to the median ratio of
+    recorded to predicted intensity over well-fitted pixels; median gain 1. stack: list of
+    (raw, intensity) K x H x W pairs. Returns K gains and the median relative residual per
+    round (before each update)."""
+    gains = np.ones(len(lights))
+    history = []
+    for _ in range(rounds):
+        ratios, residuals = [], []
+        for raw, intensity in stack:
+            sub_i = intensity[:, ::stride, ::stride] / gains[:, None, None]
+            sub_r = raw[:, ::stride, ::stride]
+            r = solve_photometric_stereo(sub_i, sub_r, lights)
+            b = (r["normal"] * r["albedo"][..., None]).reshape(-1, 3)
+            pred = lights @ b.T
+            good = (r["lights"].reshape(-1) >= MIN_LIGHTS) & (r["residual"].reshape(-1) < 0.25)
+            i_flat = sub_i.reshape(len(lights), -1)
+            ok = (pred > 20) & (sub_r.reshape(len(lights), -1) < SATURATED_DN) & good[None]
+            ratios.append(np.where(ok, i_flat / np.maximum(pred, 1e-6), np.nan))
+            residuals.append(r["residual"][r["lights"] >= MIN_LIGHTS])
+        history.append(float(np.median(np.concatenate(residuals))))
+        update = np.nan_to_num(np.nanmedian(np.concatenate(ratios, 1), axis=1), nan=1.0)
+        gains *= update
+        gains /= np.median(gains)
+    return gains, history
+
+
+def command_ps(args):
+    names = subjects(args.data)
+    evidence = check_signs(args.data, names)
+    loaded = {}
+    for s in names:
+        photos, raw, intensity = load_subject(args.data, s)
+        keep, lights = used_lights(photos)
+        loaded[s] = (photos, raw[keep], intensity[keep], lights, [photos[i][:2] for i in keep])
+    light_sets = {tuple(map(tuple, v[4])) for v in loaded.values()}
+    if len(light_sets) != 1:
+        fail("the subjects do not share one set of strobes; cannot calibrate gains jointly")
+    lights, light_names = next(iter(loaded.values()))[3], next(iter(loaded.values()))[4]
+    print(f"using {len(lights)} of {len(next(iter(loaded.values()))[0])} strobes (within "
+          f"{MAX_LIGHT_ANGLE:.0f} degrees of the camera axis); calibrating their gains", flush=True)
+    gains, history = calibrate_gains([(v[1], v[2]) for v in loaded.values()], lights)
+    print("median relative residual by calibration round: "
+          + ", ".join(f"{h:.3f}" for h in history)
+          + f"; gains {gains.min():.2f}..{gains.max():.2f}", flush=True)
+    summary = {}
+    for idx, s in enumerate(names):
+        photos, raw, intensity, _, _ = loaded[s]
+        out_dir = os.path.join(args.cache, "ps", s)
+        os.makedirs(out_dir, exist_ok=True)
+        result = solve_photometric_stereo(intensity / gains[:, None, None], raw, lights)
+        rel = result["reliable"]
+        w = rel.shape[1]
+        h = rel.shape[0]
+        stats = {
+            "lights_used": len(lights),
+            "reliable_pixels": int(rel.sum()),
+            "reliable_fraction": float(rel.mean()),
+            "median_inlier_lights": float(np.median(result["lights"][rel])) if rel.any() else 0,
+            "median_relative_residual": float(np.median(result["residual"][rel])) if rel.any() else 0,
+            "mean_nx_left_third": float(result["normal"][:, : w // 3, 0][rel[:, : w // 3]].mean()),
+            "mean_nx_right_third": float(result["normal"][:, 2 * w // 3:, 0][rel[:, 2 * w // 3:]].mean()),
+            "mean_ny_top_fifth": float(result["normal"][: h // 5, :, 1][rel[: h // 5]].mean()),
+        }
+        normal = np.where(rel[:, :, None], result["normal"], 0.0)
+        write_exr(os.path.join(out_dir, "normal.exr"), normal, ("R", "G", "B"))
+        write_exr(os.path.join(out_dir, "albedo.exr"), result["albedo"] / 255.0, ("Y",))
+        write_exr(os.path.join(out_dir, "reliable.exr"), rel.astype(np.float32), ("Y",))
+        write_exr(os.path.join(out_dir, "diagnostics.exr"),
+                  np.stack([result["lights"], result["condition"], result["residual"]], -1),
+                  ("lights", "condition", "residual"))
+        with open(os.path.join(out_dir, "stats.json"), "w") as f:
+            json.dump(stats, f, indent=1)
+        summary[s] = stats
+        print(f"[{idx + 1}/{len(names)}] {s}: reliable {100 * stats['reliable_fraction']:.1f} % of "
+              f"the photo, median inlier lights {stats['median_inlier_lights']:.0f}, median "
+              f"relative residual {stats['median_relative_residual']:.3f}, mean n_x left third "
+              f"{stats['mean_nx_left_third']:+.2f} right third {stats['mean_nx_right_third']:+.2f}, "
+              f"mean n_y top fifth {stats['mean_ny_top_fifth']:+.2f}", flush=True)
+    with open(os.path.join(args.cache, "ps", "summary.json"), "w") as f:
+        json.dump({"sign_evidence": evidence, "lights": light_names,
+                   "gains": [float(g) for g in gains], "calibration_residuals": history,
+                   "subjects": summary}, f, indent=1)
+
+
+# ------------------------------------------------------------------------ evaluation photos
+
+def eval_stem(subject, azimuth, elevation):
+    return f"{subject}_P00A{azimuth:+04d}E{elevation:+03d}"
+
+
+def eval_photos(data):
+    """[(subject, stem, path)] of the evaluation photos that exist (frontal, +-25, +-50 at E 0)."""
+    out = []
+    for s in subjects(data):
+        for a, e in EVAL_LIGHTS:
+            stem = eval_stem(s, a, e)
+            path = os.path.join(data, s, stem + ".pgm")
+            if os.path.exists(path):
+                out.append((s, stem, path))
+    return out
+
+
+def landmark_photos(data, s):
+    """Photos of subject s lit near the camera axis (within 25 degrees), for its landmarks: the
+    pose is the same under every strobe, so any well-lit photo gives the subject's landmarks."""
+    photos, _ = list_subject(os.path.join(data, s))
+    near = [(abs(a) + abs(e), p) for a, e, p in photos if abs(a) <= 25 and abs(e) <= 25]
+    return [p for _, p in sorted(near)]
+
+
+def run_facetool(cmd, log_path):
+    """Runs a facetool command, its output to a log; returns the exit status (1 = some photo
+    failed, which is expected here: the detector misses faces)."""
+    with open(log_path, "w") as log:
+        status = subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT)
+    if status not in (0, 1):
+        fail(f"{' '.join(cmd)} exited with {status}; see {log_path}")
+    return status
+
+
+def find_facetool(path):
+    candidates = [path] if path else [os.path.join(ROOT, "build", "bin", "facetool"),
+                                      shutil.which("facetool")]
+    for c in candidates:
+        if c and os.path.isfile(c) and os.access(c, os.X_OK):
+            return c
+    fail("no facetool program: build it (scripts/build.sh) or pass --facetool BIN")
+
+
+def command_infer(args):
+    facetool = find_facetool(args.facetool)
+    photos = eval_photos(args.data)
+    pred = os.path.join(args.cache, "pred")
+    for name, extra in (("infer", []), ("infer-aligned", ["--aligned"])):
+        out = os.path.join(pred, name)
+        if os.path.isdir(out):
+            shutil.rmtree(out)
+        os.makedirs(out)
+        print(f"facetool infer {' '.join(extra)} on {len(photos)} photos -> {out}", flush=True)
+        run_facetool([facetool, "infer", *extra, *[p for _, _, p in photos], "-o", out],
+                     os.path.join(pred, name + ".log"))
+    # The same photos padded by a quarter of their width on every side with their mean grey:
+    # the crops are so tight that the HOG detector misses most faces; with a margin it finds
+    # more (padding by half the width: fewer; with repeated edge pixels or black: fewer still).
+    # The pasted-back normals are cut back to the photo's frame and written as normal.exr.
+    padded_in = os.path.join(args.cache, "padded-photos")
+    raw_out = os.path.join(pred, "infer-padded-full")
+    out = os.path.join(pred, "infer-padded")
+    for d in (padded_in, raw_out, out):
+        if os.path.isdir(d):
+            shutil.rmtree(d)
+        os.makedirs(d)
+    pad = {}
+    for _, stem, path in photos:
+        img = read_pgm(path)
+        pad[stem] = (img.shape[1] // 4, img.shape)
+        write_png8(os.path.join(padded_in, stem + ".png"),
+                   np.pad(img, pad[stem][0], constant_values=float(img.mean())))
+    print(f"facetool infer on the {len(photos)} photos padded by a quarter of their width -> {out}",
+          flush=True)
+    run_facetool([facetool, "infer", *[os.path.join(padded_in, stem + ".png") for _, stem, _ in photos],
+                  "-o", raw_out], os.path.join(pred, "infer-padded.log"))
+    for _, stem, _ in photos:
+        path = os.path.join(raw_out, stem, "photo.exr")
+        if not os.path.exists(path):
+            continue
+        n, valid = read_normal_prediction(path)
+        p, (h, w) = pad[stem]
+        n = np.where(valid[:, :, None], n, 0.0)[p:p + h, p:p + w]
+        os.makedirs(os.path.join(out, stem))
+        write_exr(os.path.join(out, stem, "normal.exr"), n, ("R", "G", "B"))
+    # Landmarks per subject for the template's alignment: the photos lit near the camera axis.
+    out = os.path.join(args.cache, "landmarks")
+    if os.path.isdir(out):
+        shutil.rmtree(out)
+    os.makedirs(out)
+    paths = [p for s in subjects(args.data) for p in landmark_photos(args.data, s)]
+    print(f"facetool infer on {len(paths)} near-frontally lit photos for landmarks -> {out}", flush=True)
+    run_facetool([facetool, "infer", "--no-contact-sheet", *paths, "-o", out],
+                 os.path.join(args.cache, "landmarks.log"))
+
+
+def command_fit(args):
+    if not args.fit_bin:
+        fail("fit needs --fit-bin BIN (a facetool with the `fit` command)")
+    photos = eval_photos(args.data)
+    out = os.path.join(args.cache, "pred", "fit")
+    if os.path.isdir(out):
+        shutil.rmtree(out)
+    os.makedirs(out)
+    print(f"facetool fit on {len(photos)} photos -> {out}", flush=True)
+    run_facetool([args.fit_bin, "fit", *[p for _, _, p in photos], "-o", out],
+                 os.path.join(args.cache, "pred", "fit.log"))
+
+
+# ------------------------------------------------------------------------------ the template
+
+def subject_landmarks(cache, s):
+    """Median 68 landmarks (photo pixels) of subject s over its detected landmark photos, or
+    None when no photo of it was detected."""
+    folder = os.path.join(cache, "landmarks")
+    found = []
+    if os.path.isdir(folder):
+        for name in sorted(os.listdir(folder)):
+            path = os.path.join(folder, name, "faces.json")
+            if name.startswith(s + "_") and os.path.exists(path):
+                with open(path) as f:
+                    faces = json.load(f).get("faces", [])
+                if faces:
+                    pts = np.asarray(faces[0]["landmarks"], np.float64).reshape(-1, 2)
+                    if pts.shape == (68, 2):
+                        found.append(pts)
+    return np.median(np.stack(found), 0) if found else None
+
+
+def similarity(src, dst):
+    """Least-squares similarity (scale, rotation, translation; no reflection) taking the points
+    src to dst, as a 2 x 3 matrix on (x, y, 1) (Umeyama's closed form)."""
+    mu_s, mu_d = src.mean(0), dst.mean(0)
+    a, b = src - mu_s, dst - mu_d
+    cov = b.T @ a / len(src)
+    u, d, vt = np.linalg.svd(cov)
+    sign = np.diag([1.0, np.sign(np.linalg.det(u @ vt))])
+    rot = u @ sign @ vt
+    scale = np.trace(np.diag(d) @ sign) / (a ** 2).sum(1).mean()
+    m = np.zeros((2, 3))
+    m[:, :2] = scale * rot
+    m[:, 2] = mu_d - scale * rot @ mu_s
+    return m
+
+
+def warp_normals(normal, valid, m, shape):
+    """Samples a source normal map at m @ (x, y, 1) of every target pixel (bilinear over valid
+    pixels) and turns the normals by the map's rotation (so they stay in the target's camera
+    frame). Returns (normals, valid) of the target's shape."""
+    h, w = shape
+    ys, xs = np.mgrid[0:h, 0:w].astype(np.float64)
+    sx = m[0, 0] * xs + m[0, 1] * ys + m[0, 2]
+    sy = m[1, 0] * xs + m[1, 1] * ys + m[1, 2]
+    x0, y0 = np.floor(sx).astype(int), np.floor(sy).astype(int)
+    fx, fy = sx - x0, sy - y0
+    acc = np.zeros((h, w, 3))
+    wsum = np.zeros((h, w))
+    for dy, dx, wt in ((0, 0, (1 - fx) * (1 - fy)), (0, 1, fx * (1 - fy)),
+                       (1, 0, (1 - fx) * fy), (1, 1, fx * fy)):
+        yy, xx = y0 + dy, x0 + dx
+        inside = (yy >= 0) & (yy < normal.shape[0]) & (xx >= 0) & (xx < normal.shape[1])
+        yc, xc = np.clip(yy, 0, normal.shape[0] - 1), np.clip(xx, 0, normal.shape[1] - 1)
+        ok = inside & valid[yc, xc]
+        acc += np.where(ok, wt, 0.0)[:, :, None] * normal[yc, xc]
+        wsum += np.where(ok, wt, 0.0)
+    out_valid = wsum >= 0.5
+    n = acc / np.maximum(wsum, 1e-12)[:, :, None]
+    # The target-to-source map turns image (x right, y down) vectors by phi = atan2(m10, m00);
+    # source-to-target turns them by -phi, which in the camera frame (y up) is +phi.
+    phi = math.atan2(m[1, 0], m[0, 0])
+    c, s_ = math.cos(phi), math.sin(phi)
+    n = np.stack([c * n[..., 0] - s_ * n[..., 1], s_ * n[..., 0] + c * n[..., 1], n[..., 2]], -1)
+    length = np.linalg.norm(n, axis=-1)
+    out_valid &= length > 1e-6
+    return np.where(out_valid[:, :, None], n / np.maximum(length, 1e-12)[:, :, None], 0.0), out_valid
+
+
+INNER = slice(17, 68)    # the 51 inner landmarks (brows, eyes, nose, mouth); the jaw slides
+
+
+def leave_one_out_template(target, refs, landmarks, aligned=True, min_subjects=3):
+    """Mean of the other subjects' PS normals in the target's frame: each warped by the
+    similarity of its inner landmarks to the target's (aligned=True and both have landmarks;
+    otherwise as cropped), averaged, renormalised; valid where min_subjects contributed."""
+    h, w = refs[target][0].shape[:2]
+    acc = np.zeros((h, w, 3))
+    count = np.zeros((h, w))
+    for s, (normal, valid) in refs.items():
+        if s == target:
+            continue
+        if aligned and landmarks.get(target) is not None and landmarks.get(s) is not None:
+            m = similarity(landmarks[target][INNER], landmarks[s][INNER])
+        else:
+            m = np.array([[1.0, 0, 0], [0, 1.0, 0]])
+        n, v = warp_normals(normal, valid, m, (h, w))
+        acc += n * v[:, :, None]
+        count += v
+    n = acc / np.maximum(np.linalg.norm(acc, axis=-1), 1e-12)[:, :, None]
+    valid = count >= min_subjects
+    return np.where(valid[:, :, None], n, 0.0), valid
+
+
+# --------------------------------------------------------------------------------- scoring
+
+def angular_error_deg(pred, truth):
+    """Per-pixel angle in degrees between two H x W x 3 (or N x 3) normal arrays (both
+    normalised here)."""
+    p = pred / np.maximum(np.linalg.norm(pred, axis=-1, keepdims=True), 1e-12)
+    t = truth / np.maximum(np.linalg.norm(truth, axis=-1, keepdims=True), 1e-12)
+    return np.degrees(np.arccos(np.clip((p * t).sum(-1), -1.0, 1.0)))
+
+
+def summarise(per_photo, mask_pixels):
+    """The paper's Table 1 figures from [angle arrays, one per scored photo]: mean and std over
+    photos of the per-photo mean error, and the percentage of all scored pixels under 20, 25
+    and 30 degrees; coverage = scored pixels / reliability-mask pixels."""
+    scored = [a for a in per_photo if a.size]
+    if not scored:
+        return {"photos": 0, "coverage": 0.0}
+    means = np.array([a.mean() for a in scored])
+    pooled = np.concatenate(scored)
+    return {
+        "photos": len(scored),
+        "coverage": float(pooled.size / mask_pixels) if mask_pixels else 0.0,
+        "mean": float(means.mean()), "std": float(means.std()),
+        "pixel_mean": float(pooled.mean()),
+        "under20": float(100 * (pooled < 20).mean()), "under25": float(100 * (pooled < 25).mean()),
+        "under30": float(100 * (pooled < 30).mean()),
+    }
+
+
+def find_prediction(folder, stem):
+    for name in ("normal.exr", "photo.exr"):
+        path = os.path.join(folder, stem, name)
+        if os.path.exists(path):
+            return path
+    return None
+
+
+def load_prediction(folder, stem, shape):
+    """(normals, valid) of one photo from a prediction folder, at the photo's resolution
+    (crop-level maps of another size, e.g. `infer --aligned`, are resized bilinearly), or None."""
+    path = find_prediction(folder, stem)
+    if path is None:
+        return None
+    n, valid = read_normal_prediction(path)
+    if n.shape[:2] != shape:
+        h, w = shape
+        m = np.array([[n.shape[1] / w, 0, 0.5 * n.shape[1] / w - 0.5],
+                      [0, n.shape[0] / h, 0.5 * n.shape[0] / h - 0.5]])
+        n, valid = warp_normals(n, valid, m, shape)
+    return n, valid
+
+
+def command_score(args):
+    photos = eval_photos(args.data)
+    names = sorted({s for s, _, _ in photos})
+    refs = {}
+    for s in names:
+        folder = os.path.join(args.cache, "ps", s)
+        if not os.path.exists(os.path.join(folder, "normal.exr")):
+            fail(f"no PS normals for {s} in {folder}: run `ps` first")
+        n, _ = read_exr_channels(os.path.join(folder, "normal.exr"))
+        rel, _ = read_exr_channels(os.path.join(folder, "reliable.exr"))
+        refs[s] = (n[:, :, :3], rel[:, :, 0] > 0.5)
+    landmarks = {s: subject_landmarks(args.cache, s) for s in names}
+    have = [s for s in names if landmarks[s] is not None]
+    print(f"landmarks for the template's alignment: {len(have)} of {len(names)} subjects", flush=True)
+    templates = {}
+    for s in names:
+        templates[s] = {"aligned": leave_one_out_template(s, refs, landmarks, True),
+                        "as cropped": leave_one_out_template(s, refs, landmarks, False)}
+    # The evaluation mask: the PS reliability mask where the aligned leave-one-out template is
+    # defined too (>= 3 other subjects reliable there), so both baselines cover all of it.
+    masks = {s: refs[s][1] & templates[s]["aligned"][1] for s in names}
+    kept = sum(int(masks[s].sum()) for s in names) / max(1, sum(int(refs[s][1].sum()) for s in names))
+    print(f"evaluation mask: {100 * kept:.1f} % of the reliability mask (the rest lacks a template)")
+    candidates = list(args.pred or [])
+    if not candidates:
+        for name in ("infer", "infer-padded", "infer-aligned", "fit"):
+            folder = os.path.join(args.cache, "pred", name)
+            if os.path.isdir(folder):
+                candidates.append(f"{name}={folder}")
+    constant = np.zeros(refs[names[0]][0].shape)
+    constant[..., 2] = 1.0
+    rows = []       # (label, summary)
+    per_light = {}  # label -> {light: summary}
+
+    def score(label, predict):
+        """predict(subject, stem) -> (normals, valid) or None; scores all evaluation photos."""
+        angles, total, by_light = [], 0, {}
+        for s, stem, _ in photos:
+            truth, mask = refs[s][0], masks[s]
+            total += int(mask.sum())
+            got = predict(s, stem)
+            sel = mask & got[1] if got is not None else np.zeros_like(mask)
+            a = angular_error_deg(got[0][sel], truth[sel]) if got is not None else np.zeros(0)
+            angles.append(a)
+            light = stem.split("_P00")[1]
+            by_light.setdefault(light, ([], [0]))
+            by_light[light][0].append(a)
+            by_light[light][1][0] += int(mask.sum())
+        rows.append((label, summarise(angles, total)))
+        per_light[label] = {k: summarise(v[0], v[1][0]) for k, v in sorted(by_light.items())}
+
+    score("constant normal (0,0,1)", lambda s, stem: (constant, np.ones(constant.shape[:2], bool)))
+    score("leave-one-out template, landmark-aligned", lambda s, stem: templates[s]["aligned"])
+    score("leave-one-out template, as cropped", lambda s, stem: templates[s]["as cropped"])
+    for spec in candidates:
+        label, _, folder = spec.partition("=")
+        if not folder:
+            label, folder = os.path.basename(os.path.normpath(spec)), spec
+        if not os.path.isdir(folder):
+            fail(f"--pred {spec}: no such folder")
+        cache = {}
+
+        def predict(s, stem, folder=folder, cache=cache):
+            if stem not in cache:
+                cache[stem] = load_prediction(folder, stem, refs[s][0].shape[:2])
+            return cache[stem]
+
+        score(label, predict)
+        # The baselines on exactly the pixels this candidate covers.
+        score(f"  constant normal, on {label}'s pixels", lambda s, stem, p=predict:
+              None if p(s, stem) is None else (constant, p(s, stem)[1]))
+        score(f"  template (aligned), on {label}'s pixels", lambda s, stem, p=predict:
+              None if p(s, stem) is None else
+              (templates[s]["aligned"][0], templates[s]["aligned"][1] & p(s, stem)[1]))
+    lines = [f"{len(photos)} photos ({len(names)} subjects x lights "
+             + ", ".join(eval_stem('', a, e).split('_P00')[1] for a, e in EVAL_LIGHTS)
+             + f"), scored inside the evaluation mask (the PS reliability mask where the template "
+             f"is defined: {100 * kept:.1f} % of it)", "",
+             "| normals | photos scored | coverage | mean ± std (°) | < 20° | < 25° | < 30° |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for label, r in rows:
+        if r["photos"] == 0:
+            lines.append(f"| {label} | 0 | 0 % | – | – | – | – |")
+            continue
+        lines.append(f"| {label} | {r['photos']} | {100 * r['coverage']:.1f} % | "
+                     f"{r['mean']:.1f} ± {r['std']:.1f} | {r['under20']:.1f} % | "
+                     f"{r['under25']:.1f} % | {r['under30']:.1f} % |")
+    order = [eval_stem("", a, e).split("_P00")[1] for a, e in EVAL_LIGHTS]
+    lights = [k for k in order if k in next(iter(per_light.values()))]
+    lines += ["", "Mean angular error (°) by light (photos scored):", "",
+              "| normals | " + " | ".join(lights) + " |", "| --- |" + " --- |" * len(lights)]
+    for label, by in per_light.items():
+        cells = [f"{by[k]['mean']:.1f} ({by[k]['photos']})" if by[k]["photos"] else "–" for k in lights]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    text = "\n".join(lines)
+    print(text)
+    with open(os.path.join(args.cache, "results.json"), "w") as f:
+        json.dump({"rows": rows, "per_light": per_light}, f, indent=1)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(text + "\n")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--data", default=DEFAULT_DATA, help="the yaleb-dev folder")
+    parser.add_argument("--cache", default=DEFAULT_CACHE, help="where results go (default build/yaleb)")
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("ps", help="photometric-stereo normals, albedo and reliability masks")
+    p = sub.add_parser("infer", help="facetool infer (photo and --aligned) on the evaluation photos")
+    p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
+    p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
+    p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")
+    p = sub.add_parser("score", help="score the predictions against the PS normals")
+    p.add_argument("--pred", action="append", metavar="NAME=DIR",
+                   help="a folder of DIR/<photo stem>/normal.exr (or photo.exr); repeatable "
+                        "(default: every folder under CACHE/pred)")
+    p.add_argument("--markdown", help="also write the tables to this file")
+    p = sub.add_parser("run", help="ps, infer, fit (with --fit-bin) and score")
+    p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
+    p.add_argument("--fit-bin", help="a facetool program with the fit command")
+    p.add_argument("--fit-dir", help="a folder of <photo stem>/normal.exr to score as 'fit'")
+    p.add_argument("--markdown", help="also write the tables to this file")
+    args = parser.parse_args()
+    if args.command == "ps":
+        command_ps(args)
+    elif args.command == "infer":
+        command_infer(args)
+    elif args.command == "fit":
+        command_fit(args)
+    elif args.command == "score":
+        command_score(args)
+    elif args.command == "run":
+        command_ps(args)
+        command_infer(args)
+        args.pred = None
+        if args.fit_bin:
+            command_fit(args)
+        if args.fit_dir:
+            args.pred = [f"{n}={os.path.join(args.cache, 'pred', n)}"
+                         for n in ("infer", "infer-padded", "infer-aligned")
+                         if os.path.isdir(os.path.join(args.cache, "pred", n))]
+            args.pred.append(f"fit={args.fit_dir}")
+        command_score(args)
+
+
+if __name__ == "__main__":
+    main()
