@@ -150,7 +150,8 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;
-  FaceDetector detector(photo_options.landmark_model);
+  FaceDetector detector(photo_options.landmark_model, photo_options.cnn_model);
+  detector.prepare(photo_options.detection.detector);
 
   std::optional<DecomposedPhoto> source;
   sh::RgbLight light{};

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "apps/facetool/infer/infer_outputs.h"
+#include "core/face/detection_summary.h"
 #include "core/face/face_crops.h"
 #include "core/face/frame_rotation.h"
 #include "core/face/landmark_drawing.h"
@@ -33,7 +34,7 @@ constexpr double kPi = 3.14159265358979323846;
 bool is_photo_file(const fs::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".exr", ".hdr"})
+  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".exr", ".hdr", ".pgm", ".ppm"})
     if (ext == e) return true;
   return false;
 }
@@ -130,20 +131,24 @@ std::string faces_json(const std::string& source, const std::vector<FaceCrop>& c
 
 // Processes one photo; returns false (after printing why) when it has no usable face.
 bool infer_photo(const std::string& path, const std::string& folder, FaceDetector& detector,
-                 Decomposer& decomposer, Backend& backend, int size, const PhotoInferOptions& options) {
+                 Decomposer& decomposer, Backend& backend, int size, const PhotoInferOptions& options,
+                 DetectionSummary& summary) {
   RgbImage photo;
   try {
     photo = read_photo(path);
   } catch (const Error& e) {
     std::cerr << "\nphoto '" << path << "': " << e.what() << "\n";
+    summary.add(path, 0, "unreadable");
     return false;
   }
   const std::vector<DetectedFace> faces = detector.detect(photo, options.detection);
   if (faces.empty()) {
-    std::cerr << "\nphoto '" << path << "': no face found (dlib's frontal detector needs a face of at least "
-              << "--min-face-size pixels, roughly frontal; try a smaller --min-face-size)\n";
+    const std::string reason = no_face_reason(photo, options.detection);
+    std::cerr << "\nphoto '" << path << "': " << reason << "\n";
+    summary.add(path, 0, reason);
     return false;
   }
+  summary.add(path, static_cast<int>(faces.size()));
   const int w = photo.width, h = photo.height;
   const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(size) * size;
   std::vector<FaceCrop> crops;
@@ -239,9 +244,13 @@ bool infer_photo(const std::string& path, const std::string& folder, FaceDetecto
 
 void add_photo_detection_options(po::options_description& options) {
   options.add_options()
+      ("detector", po::value<std::string>()->default_value("auto"), "face detector: hog, cnn, or auto (HOG, and dlib's CNN when HOG finds no face; docs/photos.md)")
+      ("cnn-model", po::value<std::string>()->default_value(kDefaultCnnFaceModel), "dlib's CNN face detector model (mmod_human_face_detector.dat; scripts/install-dependencies.sh)")
       ("max-faces", po::value<int>()->default_value(0), "keep at most this many faces per photo, best detection score first (0: all)")
-      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8))")
-      ("min-score", po::value<double>()->default_value(0.25), "detection score (HOG margin) below which a box is not a face")
+      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8)); a smaller value never finds fewer faces")
+      ("min-score", po::value<double>()->default_value(0.25), "HOG detection score (margin) below which a box is not a face")
+      ("min-cnn-score", po::value<double>()->default_value(0.0), "CNN detection score below which a box is not a face")
+      ("pad", po::value<double>()->default_value(0.25), "pad the photo on every side by this fraction of its shorter side (its mean colour) before detection, so faces filling the photo are found")
       ("landmark-model", po::value<std::string>()->default_value(kDefaultLandmarkModel),
        "dlib 68-point shape predictor (Debian libdlib-data; trained on iBUG 300-W: research use only, no commercial use)")
       ("forehead", "extend the landmarks' convex hull over the forehead (docs/photos.md)");
@@ -258,6 +267,8 @@ std::vector<OptionRange> photo_option_ranges() {
   return {{"max-faces", 0, 10000},
           {"min-face-size", 0, 1e6},
           {"min-score", -10, 10},
+          {"min-cnn-score", -10, 10},
+          {"pad", 0, 2},
           {"feather", 0, 256}};
 }
 
@@ -267,6 +278,10 @@ PhotoInferOptions photo_options_from(const po::variables_map& values) {
   o.detection.min_face_size = values["min-face-size"].as<double>();
   o.detection.score_threshold = values["min-score"].as<double>();
   o.landmark_model = values["landmark-model"].as<std::string>();
+  o.detection.detector = parse_detector_choice(values["detector"].as<std::string>());
+  o.cnn_model = values["cnn-model"].as<std::string>();
+  o.detection.cnn_score_threshold = values["min-cnn-score"].as<double>();
+  o.detection.padding = values["pad"].as<double>();
   o.extend_forehead = values.count("forehead") > 0;
   if (values.count("feather")) o.feather = values["feather"].as<double>();
   o.transparent = values.count("transparent") > 0;
@@ -284,7 +299,7 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
       for (const fs::directory_entry& e : fs::directory_iterator(input))
         if (e.is_regular_file() && is_photo_file(e.path())) found.push_back(e.path().string());
       std::sort(found.begin(), found.end());
-      check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr)");
+      check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr, pgm, ppm)");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
       check(fs::is_regular_file(input), "input photo '", input, "' does not exist or is not a file or folder");
@@ -297,7 +312,9 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
 int infer_photos(const std::vector<std::string>& photos, const std::string& out_dir,
                  Decomposer& decomposer, Backend& backend, int crop_size,
                  const PhotoInferOptions& options) {
-  FaceDetector detector(options.landmark_model);
+  FaceDetector detector(options.landmark_model, options.cnn_model);
+  detector.prepare(options.detection.detector);
+  DetectionSummary summary;
   std::map<std::string, int> seen;
   int failed = 0;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
@@ -306,11 +323,12 @@ int infer_photos(const std::vector<std::string>& photos, const std::string& out_
     const int k = ++seen[stem];
     if (k > 1) stem += "_" + std::to_string(k);
     if (!infer_photo(path, (fs::path(out_dir) / stem).string(), detector, decomposer, backend,
-                     crop_size, options))
+                     crop_size, options, summary))
       ++failed;
     progress.advance();
   }
   progress.finish();
+  summary.print(std::cerr);
   return failed;
 }
 

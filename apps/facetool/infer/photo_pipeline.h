@@ -16,6 +16,7 @@ namespace facetool {
 struct PhotoInferOptions {
   DetectionOptions detection;
   std::string landmark_model = kDefaultLandmarkModel;
+  std::string cnn_model = kDefaultCnnFaceModel;  // --cnn-model
   bool extend_forehead = false;  // --forehead
   double feather = 3.0;          // --feather, crop pixels
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
@@ -43,7 +44,8 @@ Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std:
 RgbImage planar_rgb(const float* planar, int w, int h);
 
 // Runs every photo; a photo that cannot be read or has no face gets a line on stderr and the
-// run goes on. Returns the number of such photos.
+// run goes on; a summary line per folder follows (DetectionSummary). Returns the number of such
+// photos.
 int infer_photos(const std::vector<std::string>& photos, const std::string& out_dir,
                  Decomposer& decomposer, Backend& backend, int crop_size,
                  const PhotoInferOptions& options);
