@@ -35,8 +35,7 @@ DecomposedPhoto decompose_photo(const std::string& path, FaceDetector& detector,
   DecomposedPhoto out;
   out.photo = read_photo(path);
   const std::vector<DetectedFace> faces = detector.detect(out.photo, options.detection);
-  check(!faces.empty(), "photo '", path, "': no face found (dlib's frontal detector needs a roughly "
-        "frontal face of at least --min-face-size pixels; try a smaller --min-face-size)");
+  check(!faces.empty(), "photo '", path, "': ", no_face_reason(out.photo, options.detection));
   std::vector<float> inputs;
   for (const DetectedFace& f : faces) {
     out.crops.push_back(crop_face(out.photo, f, crop_size, options.extend_forehead));
