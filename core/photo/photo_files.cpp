@@ -8,7 +8,9 @@
 #include <map>
 #include <sstream>
 
+#include "core/face/detection_summary.h"
 #include "core/face/landmark_drawing.h"
+#include "core/face/photo_reader.h"
 #include "core/face/rgba_png.h"
 #include "core/io/exr_io.h"
 #include "core/io/layered_image.h"
@@ -140,11 +142,25 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
                  const std::string& out_dir, PhotoDecomposer& decomposer, const PhotoInferOptions& options) {
   check(photos.size() == folders.size(), "infer: ", photos.size(), " photos for ", folders.size(), " folder names");
   int failed = 0;
+  DetectionSummary summary;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
   for (size_t k = 0; k < photos.size(); ++k) {
     DecomposedPhoto photo;
     try {
-      photo = decomposer.decompose_file(photos[k]);
+      RgbImage image;
+      try {
+        image = read_photo(photos[k]);
+      } catch (const Error& e) {
+        summary.add(photos[k], 0, "unreadable");
+        fail("photo '", photos[k], "': ", e.what());
+      }
+      try {
+        photo = decomposer.decompose(std::move(image), photos[k]);
+      } catch (const NoFaceError& e) {
+        summary.add(photos[k], 0, e.reason());
+        throw;
+      }
+      summary.add(photos[k], static_cast<int>(photo.crops.size()));
     } catch (const Error& e) {
       std::cerr << "\n" << e.what() << "\n";
       ++failed;
@@ -155,6 +171,7 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
     progress.advance();
   }
   progress.finish();
+  summary.print(std::cerr);
   return failed;
 }
 

@@ -17,7 +17,7 @@ namespace {
 bool is_photo_file(const fs::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".exr", ".hdr"})
+  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".exr", ".hdr", ".pgm", ".ppm"})
     if (ext == e) return true;
   return false;
 }
@@ -38,6 +38,12 @@ PhotoDecomposer::PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer,
   check(options.feather >= 0, "photo decomposer: the feather must be 0 or more (it is ", options.feather, ")");
 }
 
+std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options) {
+  auto detector = std::make_unique<FaceDetector>(options.landmark_model, options.cnn_model);
+  detector->prepare(options.detection.detector);
+  return detector;
+}
+
 std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
                                       const PhotoInferOptions& options) {
   std::vector<FaceCrop> crops;
@@ -56,9 +62,11 @@ DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& so
         source.empty() ? std::string("the photo") : "photo '" + source + "'", " is not a ", photo.width, "x",
         photo.height, " RGB image (", photo.pixels.size(), " values)");
   std::vector<FaceCrop> crops = find_faces(photo);
-  check(!crops.empty(), source.empty() ? std::string("the photo") : "photo '" + source + "'",
-        ": no face found (dlib's frontal detector needs a roughly frontal face of at least "
-        "--min-face-size pixels; try a smaller --min-face-size)");
+  if (crops.empty()) {
+    std::string reason = no_face_reason(photo, options_.detection);
+    throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason,
+                      std::move(reason));
+  }
   std::vector<float> inputs;
   for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
@@ -134,7 +142,7 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
       for (const fs::directory_entry& e : fs::directory_iterator(input))
         if (e.is_regular_file() && is_photo_file(e.path())) found.push_back(e.path().string());
       std::sort(found.begin(), found.end());
-      check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr)");
+      check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr, pgm, ppm)");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
       check(fs::is_regular_file(input), "input photo '", input, "' does not exist or is not a file or folder");

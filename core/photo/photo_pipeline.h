@@ -3,6 +3,7 @@
 // files `infer` writes from its results are photo_files.h's.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ namespace facetool {
 struct PhotoInferOptions {
   DetectionOptions detection;
   std::string landmark_model = kDefaultLandmarkModel;
+  std::string cnn_model = kDefaultCnnFaceModel;  // --cnn-model
   bool extend_forehead = false;  // --forehead
   double feather = 3.0;          // --feather, crop pixels
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
@@ -51,6 +53,21 @@ struct PhotoLayers {
 // A photo taken apart once: its faces' crops (best detection score first), the network's
 // crop-level results (crop frame), where each face pastes back, each face's light turned into
 // the photo's frame, and the layers pasted back at the photo's resolution.
+// Thrown by PhotoDecomposer::decompose when the photo holds no face; reason() says why where
+// that is known (face_detector.h's no_face_reason).
+class NoFaceError : public Error {
+ public:
+  NoFaceError(const std::string& message, std::string reason) : Error(message), reason_(std::move(reason)) {}
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
+};
+
+// The face detector the options ask for (--landmark-model, --cnn-model, --detector), its models
+// loaded now so that a missing or damaged one is reported before any photo is read.
+std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options);
+
 struct DecomposedPhoto {
   std::string path;  // the source named in messages and files ("" for a photo given in memory)
   RgbImage photo;    // linear RGB

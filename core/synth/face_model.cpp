@@ -211,7 +211,19 @@ ShapeWeights FaceModel::sample(Random& random, const ShapeSampling& sampling) co
   for (size_t k = 0; k < identity_modes_.size(); ++k)
     weights.identity.push_back(static_cast<float>(random.truncated_normal(sampling.identity_truncation)));
   weights.expression.assign(expression_modes_.size(), 0.0f);
-  if (expression_modes_.empty() || sampling.max_active_expressions <= 0) return weights;
+  for (const auto& [name, weight] : sampling.fixed_expressions)
+    check(std::find(expression_names_.begin(), expression_names_.end(), name) != expression_names_.end(),
+          "expression '", name, "' is not in the face model (", expression_names_.size(),
+          " expressions, e.g. eyeBlink_L, jawOpen)");
+  if (!expression_modes_.empty() && sampling.max_active_expressions > 0) sample_random_expressions(random, sampling, weights);
+  for (const auto& [name, weight] : sampling.fixed_expressions)
+    for (size_t j = 0; j < expression_names_.size(); ++j)
+      if (expression_names_[j] == name) weights.expression[j] = static_cast<float>(weight);
+  return weights;
+}
+
+void FaceModel::sample_random_expressions(Random& random, const ShapeSampling& sampling,
+                                          ShapeWeights& weights) const {
   const auto active = random.index(static_cast<uint64_t>(sampling.max_active_expressions) + 1);
   for (uint64_t a = 0; a < active; ++a) {
     const size_t k = random.index(expression_modes_.size());
@@ -226,7 +238,6 @@ ShapeWeights FaceModel::sample(Random& random, const ShapeSampling& sampling) co
         if (expression_names_[j] == twin) weights.expression[j] = weight;
     }
   }
-  return weights;
 }
 
 }  // namespace facetool

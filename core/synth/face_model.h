@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/synth/face_mesh.h"
@@ -24,6 +25,9 @@ struct ShapeSampling {
   int max_active_expressions = 4;    // 0..this expressions are active per sample
   double max_expression_weight = 1.0;
   double symmetric_probability = 0.5;  // an active _L/_R expression brings its twin along
+  // Expressions set to a weight in every sample, after the random ones (synth --expression
+  // eyeBlink_L=1): e.g. closed eyes for detector tests. A name the model lacks is an error.
+  std::vector<std::pair<std::string, double>> fixed_expressions;
 };
 
 class FaceModel {
@@ -48,6 +52,8 @@ class FaceModel {
   ShapeWeights sample(Random& random, const ShapeSampling& sampling) const;
 
  private:
+  void sample_random_expressions(Random& random, const ShapeSampling& sampling,
+                                 ShapeWeights& weights) const;
   FaceMesh neutral_;
   std::vector<std::vector<Vec3f>> identity_modes_;    // per kept vertex offsets
   std::vector<std::vector<Vec3f>> expression_modes_;

@@ -54,8 +54,13 @@ std::string describe_generator_settings(const SampleGenerator& generator) {
       << s.pose.max_yaw_deg << "\n"
       << "shape identity truncation " << s.shape.identity_truncation << ", max expressions "
       << s.shape.max_active_expressions << ", max expression weight "
-      << s.shape.max_expression_weight << "\n"
-      << "light rotate " << s.light.rotate << ", max tilt " << s.light.max_tilt_deg
+      << s.shape.max_expression_weight << "\n";
+  if (!s.shape.fixed_expressions.empty()) {  // only then: older runs' settings text is unchanged
+    out << "fixed expressions";
+    for (const auto& [name, weight] : s.shape.fixed_expressions) out << " " << name << "=" << weight;
+    out << "\n";
+  }
+  out << "light rotate " << s.light.rotate << ", max tilt " << s.light.max_tilt_deg
       << ", colour jitter " << s.light.color_jitter << ", peak " << s.light.min_peak << ".."
       << s.light.max_peak << "\n"
       << "renderer " << generator.renderer().name() << "\n";

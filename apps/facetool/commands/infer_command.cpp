@@ -119,8 +119,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
   if (!aligned) {
-    FaceDetector detector(photo_options.landmark_model);
-    PhotoDecomposer photo_decomposer(detector, decomposer, backend, size, photo_options);
+    const std::unique_ptr<FaceDetector> detector = make_face_detector(photo_options);
+    PhotoDecomposer photo_decomposer(*detector, decomposer, backend, size, photo_options);
     const int failed = infer_photos(files, stems, out_dir, photo_decomposer, photo_options);
     std::cerr << "wrote the results of " << files.size() - failed << " of " << files.size()
               << " photos to " << out_dir << "\n";

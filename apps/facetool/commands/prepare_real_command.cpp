@@ -99,7 +99,8 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   check(!ec, "cannot create output folder '", out, "': ", ec.message());
   remove_stale_temporary_files(out);
 
-  FaceDetector detector(photo.landmark_model);
+  FaceDetector detector(photo.landmark_model, photo.cnn_model);
+  detector.prepare(photo.detection.detector);
   std::ostringstream manifest;
   manifest << "# facetool prepare-real manifest: generator " << kRealSampleVersion << ", size "
            << size << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull") << "\n"

@@ -150,8 +150,8 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;
-  FaceDetector detector(photo_options.landmark_model);
-  PhotoDecomposer photo_decomposer(detector, decomposer, backend, size, photo_options);
+  const std::unique_ptr<FaceDetector> detector = make_face_detector(photo_options);
+  PhotoDecomposer photo_decomposer(*detector, decomposer, backend, size, photo_options);
 
   std::optional<DecomposedPhoto> source;
   sh::RgbLight light{};

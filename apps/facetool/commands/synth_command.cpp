@@ -67,6 +67,9 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
        "identity weights ~ N(0,1) limited to +-this")
       ("max-expressions", po::value(&settings.shape.max_active_expressions)->default_value(4),
        "at most this many active expressions per face")
+      ("expression", po::value<std::vector<std::string>>()->value_name("NAME=W")->composing(),
+       "set this ICT expression to weight W in every face, after the random ones (repeatable; "
+       "e.g. --expression eyeBlink_L=1 --expression eyeBlink_R=1 for closed eyes)")
       ("contact-sheet", po::value(&contact_sheet)->value_name("FILE.png"),
        "write a PNG: per sample image, albedo, normal, shading, ambient visibility")
       ("contact-sheet-rows", po::value(&contact_rows)->default_value(16), "samples on the sheet")
@@ -113,6 +116,21 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
   run.contact_sheet = contact_sheet;
   run.contact_sheet_rows = contact_rows;
   run.overwrite = values["overwrite"].as<bool>();
+  if (values.count("expression"))
+    for (const std::string& item : values["expression"].as<std::vector<std::string>>()) {
+      const size_t eq = item.find('=');
+      double weight = 0;
+      try {
+        size_t used = 0;
+        if (eq != std::string::npos) weight = std::stod(item.substr(eq + 1), &used);
+        if (eq == std::string::npos || eq == 0 || used != item.size() - eq - 1) throw std::invalid_argument(item);
+      } catch (const std::exception&) {
+        throw UsageError("synth: --expression '" + item + "' is not NAME=WEIGHT (e.g. eyeBlink_L=1)");
+      }
+      if (!(weight >= -2 && weight <= 2))
+        throw UsageError("synth: --expression '" + item + "': the weight must be in [-2, 2]");
+      settings.shape.fixed_expressions.emplace_back(item.substr(0, eq), weight);
+    }
   if (count < 0) throw UsageError("--count must not be negative");
   if (threads <= 0) throw UsageError("--threads must be positive");
   if (lights.empty()) {

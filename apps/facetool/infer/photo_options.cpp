@@ -9,9 +9,13 @@ namespace facetool {
 
 void add_photo_detection_options(po::options_description& options) {
   options.add_options()
+      ("detector", po::value<std::string>()->default_value("auto"), "face detector: hog, cnn, or auto (HOG, and dlib's CNN when HOG finds no face; docs/photos.md)")
+      ("cnn-model", po::value<std::string>()->default_value(kDefaultCnnFaceModel), "dlib's CNN face detector model (mmod_human_face_detector.dat; scripts/install-dependencies.sh)")
       ("max-faces", po::value<int>()->default_value(0), "keep at most this many faces per photo, best detection score first (0: all)")
-      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8))")
-      ("min-score", po::value<double>()->default_value(0.25), "detection score (HOG margin) below which a box is not a face")
+      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8)); a smaller value never finds fewer faces")
+      ("min-score", po::value<double>()->default_value(0.25), "HOG detection score (margin) below which a box is not a face")
+      ("min-cnn-score", po::value<double>()->default_value(0.0), "CNN detection score below which a box is not a face")
+      ("pad", po::value<double>()->default_value(0.25), "pad the photo on every side by this fraction of its shorter side (its mean colour) before detection, so faces filling the photo are found")
       ("landmark-model", po::value<std::string>()->default_value(kDefaultLandmarkModel),
        "dlib 68-point shape predictor (Debian libdlib-data; trained on iBUG 300-W: research use only, no commercial use)")
       ("forehead", "extend the landmarks' convex hull over the forehead (docs/photos.md)");
@@ -28,6 +32,8 @@ std::vector<OptionRange> photo_option_ranges() {
   return {{"max-faces", 0, 10000},
           {"min-face-size", 0, 1e6},
           {"min-score", -10, 10},
+          {"min-cnn-score", -10, 10},
+          {"pad", 0, 2},
           {"feather", 0, 256}};
 }
 
@@ -37,6 +43,10 @@ PhotoInferOptions photo_options_from(const po::variables_map& values) {
   o.detection.min_face_size = values["min-face-size"].as<double>();
   o.detection.score_threshold = values["min-score"].as<double>();
   o.landmark_model = values["landmark-model"].as<std::string>();
+  o.detection.detector = parse_detector_choice(values["detector"].as<std::string>());
+  o.cnn_model = values["cnn-model"].as<std::string>();
+  o.detection.cnn_score_threshold = values["min-cnn-score"].as<double>();
+  o.detection.padding = values["pad"].as<double>();
   o.extend_forehead = values.count("forehead") > 0;
   if (values.count("feather")) o.feather = values["feather"].as<double>();
   o.transparent = values.count("transparent") > 0;

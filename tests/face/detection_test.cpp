@@ -1,0 +1,292 @@
+// Face detection beyond the easy case: size bands and their merge (closed forms), the per-folder
+// summary, and on the example photos a tight crop, a photo lit from one side, a collage of faces
+// of several sizes under decreasing --min-face-size, and a missing or damaged CNN model.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "core/face/detection_bands.h"
+#include "core/face/detection_summary.h"
+#include "core/face/face_alignment.h"
+#include "core/face/face_detector.h"
+#include "core/face/photo_reader.h"
+#include "core/util/error.h"
+
+namespace facetool {
+namespace {
+
+std::string example(const std::string& name) {
+  return std::string(FACETOOL_EXAMPLES_DIR) + "/photos/" + name;
+}
+
+TEST(DetectionBands, OctavesFromTheMinimumUpToTheShorterSide) {
+  // Minimum 100 on a 700-pixel side: the smallest band is 80 (80 x 2^0 <= 100 < 160), then 160,
+  // 320, 640; 1280 > 700. Largest first, the largest searching all sizes above it.
+  const std::vector<SizeBand> bands = size_bands(100, 700, 80);
+  ASSERT_EQ(bands.size(), 4u);
+  const double expected[] = {640, 320, 160, 80};
+  for (size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(bands[i].face_size, expected[i]);
+  EXPECT_TRUE(bands[0].last);
+  EXPECT_FALSE(bands[3].last);
+  // 40 <= 79 < 80: one more band at 40; 30 < 40: 20; below 20 the photo would be enlarged
+  // more than 4 times: 20 stays the smallest.
+  EXPECT_DOUBLE_EQ(size_bands(79, 700, 80).back().face_size, 40);
+  EXPECT_DOUBLE_EQ(size_bands(30, 700, 80).back().face_size, 20);
+  EXPECT_DOUBLE_EQ(size_bands(5, 700, 80).back().face_size, 20);
+  // A smaller minimum gives the same bands plus smaller ones at the end.
+  for (double large : {300.0, 170.0, 90.0, 41.0})
+    for (double small : {160.0, 80.0, 79.0, 25.0}) {
+      if (small >= large) continue;
+      const std::vector<SizeBand> a = size_bands(large, 700, 80), b = size_bands(small, 700, 80);
+      ASSERT_GE(b.size(), a.size());
+      for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_DOUBLE_EQ(a[i].face_size, b[i].face_size);
+        EXPECT_EQ(a[i].last, b[i].last);
+      }
+    }
+  // 1300 snaps down to 1280, which does not fit in 700 pixels.
+  EXPECT_TRUE(size_bands(1300, 700, 80).empty());
+}
+
+TEST(DetectionBands, BandHoldsItsOctaveAndTheLastOneEverythingAbove) {
+  const SizeBand band{100, false}, last{100, true};
+  auto box = [](double size) { return ScoredBox{0, 0, size, size, 1}; };
+  EXPECT_FALSE(band.holds(box(89)));
+  EXPECT_TRUE(band.holds(box(90)));
+  EXPECT_TRUE(band.holds(box(173)));  // the fourth pyramid level: 100 x 1.2^3
+  EXPECT_FALSE(band.holds(box(190)));  // the next band's first level is 200
+  EXPECT_TRUE(last.holds(box(1000)));
+}
+
+TEST(DetectionBands, MergeSuppressesOnlyAcrossGroups) {
+  // Group 0: one face. Group 1: the same face slightly moved (suppressed), a face inside it
+  // (70 % covered: suppressed) and a separate face (kept). Group 2: two overlapping boxes of one
+  // detector run are both kept (the detector already separated them).
+  const std::vector<std::vector<ScoredBox>> groups = {
+      {{0, 0, 100, 100, 1}},
+      {{10, 5, 110, 105, 2}, {20, 20, 50, 50, 3}, {200, 0, 260, 60, 1}},
+      {{400, 0, 460, 60, 1}, {420, 0, 480, 60, 1}}};
+  const std::vector<std::vector<bool>> kept = merge_in_order(groups);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0], std::vector<bool>({true}));
+  EXPECT_EQ(kept[1], std::vector<bool>({false, false, true}));
+  EXPECT_EQ(kept[2], std::vector<bool>({true, true}));
+  // IoU of two 100-pixel squares offset by (10, 5): 90*95 / (2*10000 - 90*95) = 0.75 > 0.3.
+  EXPECT_TRUE(same_face({0, 0, 100, 100, 0}, {10, 5, 110, 105, 0}));
+  // Offset by 60: IoU 40*100 / (20000 - 4000) = 0.25, and 40 % covered: not the same face.
+  EXPECT_FALSE(same_face({0, 0, 100, 100, 0}, {60, 0, 160, 100, 0}));
+}
+
+TEST(DetectionSummary, CountsFacesAndReasonsPerFolder) {
+  DetectionSummary summary;
+  summary.add("a/1.jpg", 2);
+  summary.add("a/2.jpg", 0, "unreadable");
+  summary.add("b/3.jpg", 0);
+  summary.add("a/4.jpg", 1);
+  std::ostringstream out;
+  summary.print(out);
+  EXPECT_EQ(out.str(),
+            "a: 3 photos, 3 faces, 1 without a face (1 unreadable)\n"
+            "  2.jpg: unreadable\n"
+            "b: 1 photo, 0 faces, 1 without a face (1 no face found)\n"
+            "  3.jpg: no face found\n");
+  EXPECT_EQ(summary.photos(), 4);
+  EXPECT_EQ(summary.photos_without_face(), 2);
+}
+
+// Interleaved linear RGB helpers for building test photos.
+RgbImage crop(const RgbImage& image, int x0, int y0, int w, int h) {
+  RgbImage out;
+  out.width = w;
+  out.height = h;
+  out.pixels.resize(static_cast<size_t>(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        out.at(x, y)[c] = image.at(std::clamp(x0 + x, 0, image.width - 1), std::clamp(y0 + y, 0, image.height - 1))[c];
+  return out;
+}
+
+RgbImage scaled(const RgbImage& image, double scale) {
+  RgbImage out;
+  out.width = static_cast<int>(std::lround(image.width * scale));
+  out.height = static_cast<int>(std::lround(image.height * scale));
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
+  // Box-filtered enough for the factors used here (>= 0.25): average 4 x 4 bilinear samples.
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      float sum[3] = {0, 0, 0}, s[3];
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+          sample_rgb_bilinear(image, (x + (i + 0.5) / 4) / scale - 0.5, (y + (j + 0.5) / 4) / scale - 0.5, s);
+          for (int c = 0; c < 3; ++c) sum[c] += s[c] / 16;
+        }
+      for (int c = 0; c < 3; ++c) out.at(x, y)[c] = sum[c];
+    }
+  return out;
+}
+
+double inter_ocular(const Landmarks68& l) { return std::hypot(l[36].x - l[45].x, l[36].y - l[45].y); }
+
+// Mean distance of the 51 inner points of `a` from `b` shifted by (dx, dy), over b's IOD.
+double inner_error(const Landmarks68& a, const Landmarks68& b, double dx = 0, double dy = 0) {
+  double sum = 0;
+  for (int i = 0; i < kLandmarkCount; ++i)
+    if (is_inner_landmark(i)) sum += std::hypot(a[i].x - (b[i].x + dx), a[i].y - (b[i].y + dy));
+  return sum / 51 / inter_ocular(b);
+}
+
+class HardPhotos : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!std::filesystem::exists(kDefaultLandmarkModel) || !std::filesystem::exists(kDefaultCnnFaceModel)) return;
+    detector_ = std::make_unique<FaceDetector>();
+    grace_ = read_photo(example("grace_hopper_512x512.jpg"));
+    astronaut_ = read_photo(example("astronaut.png"));
+    DetectionOptions hog;
+    hog.detector = DetectorChoice::hog;
+    grace_faces_ = detector_->detect(grace_, hog);
+    astronaut_faces_ = detector_->detect(astronaut_, hog);
+  }
+  static void TearDownTestSuite() { detector_.reset(); }
+  void SetUp() override {
+    if (!detector_) GTEST_SKIP() << "needs dlib's landmark model " << kDefaultLandmarkModel
+                                 << " (libdlib-data) and CNN model " << kDefaultCnnFaceModel
+                                 << " (scripts/install-dependencies.sh)";
+    ASSERT_EQ(grace_faces_.size(), 1u);
+    ASSERT_EQ(astronaut_faces_.size(), 1u);
+  }
+  static std::unique_ptr<FaceDetector> detector_;
+  static RgbImage grace_, astronaut_;
+  static std::vector<DetectedFace> grace_faces_, astronaut_faces_;
+};
+std::unique_ptr<FaceDetector> HardPhotos::detector_;
+RgbImage HardPhotos::grace_, HardPhotos::astronaut_;
+std::vector<DetectedFace> HardPhotos::grace_faces_, HardPhotos::astronaut_faces_;
+
+TEST_F(HardPhotos, FaceFillingThePhotoIsFound) {
+  // A passport-style crop: the landmarks' bounding box plus 8 % of its size on each side, so
+  // the face fills the photo (like UTKFace's aligned crops). The upright photo's landmarks,
+  // shifted, are the reference.
+  const Landmarks68& ref = grace_faces_[0].landmarks;
+  double lx = 1e9, ly = 1e9, hx = -1e9, hy = -1e9;
+  for (const Point2& p : ref) {
+    lx = std::min(lx, p.x);
+    ly = std::min(ly, p.y);
+    hx = std::max(hx, p.x);
+    hy = std::max(hy, p.y);
+  }
+  for (double fraction : {0.08, 0.0, -0.04}) {
+    const double margin = fraction * std::max(hx - lx, hy - ly);
+    const int x0 = static_cast<int>(lx - margin), y0 = static_cast<int>(ly - margin);
+    const RgbImage tight = crop(grace_, x0, y0, static_cast<int>(hx - lx + 2 * margin), static_cast<int>(hy - ly + 2 * margin));
+    const std::vector<DetectedFace> faces = detector_->detect(tight);
+    DetectionOptions unpadded;
+    unpadded.padding = 0;
+    unpadded.detector = DetectorChoice::hog;
+    std::printf("tight crop %d x %d: %zu face(s) found (HOG without padding: %zu)\n", tight.width,
+                tight.height, faces.size(), detector_->detect(tight, unpadded).size());
+    ASSERT_EQ(faces.size(), 1u);
+    const double error = inner_error(faces[0].landmarks, ref, -x0, -y0);
+    std::printf("  inner points %.2f %% IOD from the full photo's (detector %s)\n", 100 * error, faces[0].detector.c_str());
+    EXPECT_LT(error, 0.05);
+  }
+}
+
+TEST_F(HardPhotos, FaceLitFromOneSideIsFound) {
+  // Light from the side at 70 degrees: Lambert on a cylinder around the face's vertical axis;
+  // the far side falls to 2 % (ambient). The unlit photo's landmarks are the reference.
+  for (const auto* item : {&grace_faces_, &astronaut_faces_}) {
+    const RgbImage& photo = item == &grace_faces_ ? grace_ : astronaut_;
+    const DetectedFace& face = (*item)[0];
+    const double cx = (face.left + face.right) / 2, radius = 0.6 * (face.right - face.left);
+    const double light = 70 * 3.14159265358979323846 / 180;
+    RgbImage lit = photo;
+    for (int y = 0; y < lit.height; ++y)
+      for (int x = 0; x < lit.width; ++x) {
+        const double u = std::clamp((x - cx) / radius, -1.0, 1.0);
+        const double normal = std::asin(u);  // surface angle of the cylinder at this column
+        const float gain = static_cast<float>(0.02 + 0.98 * std::max(0.0, std::cos(normal - light)));
+        for (int c = 0; c < 3; ++c) lit.at(x, y)[c] *= gain;
+      }
+    const std::vector<DetectedFace> faces = detector_->detect(lit);
+    std::printf("side-lit %s: %zu face(s)", item == &grace_faces_ ? "grace_hopper" : "astronaut", faces.size());
+    ASSERT_GE(faces.size(), 1u);
+    const double error = inner_error(faces[0].landmarks, face.landmarks);
+    std::printf(", detector %s, inner points %.2f %% IOD from the unlit photo's\n", faces[0].detector.c_str(), 100 * error);
+    EXPECT_LT(error, 0.10);
+  }
+}
+
+TEST_F(HardPhotos, SmallerMinimumFaceSizeNeverFindsFewerFaces) {
+  // A collage on grey: Grace Hopper's face at 1, 0.55 and 0.3 of its size, the astronaut's at
+  // 0.8 and 0.45 (face boxes about 210, 115, 63, 70 and 39 pixels).
+  RgbImage canvas;
+  canvas.width = 760;
+  canvas.height = 420;
+  canvas.pixels.assign(static_cast<size_t>(canvas.width) * canvas.height * 3, 0.2f);
+  int x = 5;
+  auto paste = [&](const RgbImage& photo, const DetectedFace& face, double scale) {
+    const double size = face.right - face.left;
+    const RgbImage piece = scaled(crop(photo, static_cast<int>(face.left - 0.5 * size), static_cast<int>(face.top - 0.6 * size),
+                                       static_cast<int>(2 * size), static_cast<int>(2.2 * size)), scale);
+    for (int y = 0; y < piece.height && y + 5 < canvas.height; ++y)
+      for (int i = 0; i < piece.width && x + i < canvas.width; ++i)
+        for (int c = 0; c < 3; ++c) canvas.at(x + i, y + 5)[c] = piece.at(i, y)[c];
+    x += piece.width + 5;
+  };
+  paste(grace_, grace_faces_[0], 0.5);
+  paste(grace_, grace_faces_[0], 0.28);
+  paste(astronaut_, astronaut_faces_[0], 0.8);
+  paste(grace_, grace_faces_[0], 0.15);
+  paste(astronaut_, astronaut_faces_[0], 0.45);
+  size_t previous = 0;
+  for (double min_size : {200.0, 120.0, 100.0, 80.0, 64.0, 50.0, 40.0, 32.0}) {
+    DetectionOptions options;
+    options.min_face_size = min_size;
+    const size_t found = detector_->detect(canvas, options).size();
+    std::printf("--min-face-size %.0f: %zu face(s)\n", min_size, found);
+    EXPECT_GE(found, previous) << "min face size " << min_size;
+    previous = std::max(previous, found);
+  }
+  EXPECT_GE(previous, 4u);
+}
+
+TEST_F(HardPhotos, MissingOrDamagedCnnModelIsNamedAndHogStillWorks) {
+  const std::string missing = ::testing::TempDir() + "/no_such_dir/mmod_human_face_detector.dat";
+  FaceDetector without(kDefaultLandmarkModel, missing);
+  try {
+    without.prepare(DetectorChoice::automatic);
+    ADD_FAILURE() << "a missing CNN model was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--detector hog"), std::string::npos) << e.what();
+  }
+  DetectionOptions hog;
+  hog.detector = DetectorChoice::hog;
+  EXPECT_EQ(without.detect(grace_, hog).size(), 1u);
+
+  // The real model cut to half its length.
+  const std::string damaged = ::testing::TempDir() + "/damaged_mmod.dat";
+  {
+    std::ifstream in(kDefaultCnnFaceModel, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(damaged, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  try {
+    CnnFaceDetector cnn(damaged);
+    ADD_FAILURE() << "a damaged CNN model was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(damaged), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(damaged);
+}
+
+}  // namespace
+}  // namespace facetool
