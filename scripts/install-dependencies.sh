@@ -10,6 +10,7 @@ packages=(
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
+  libceres-dev  # facetool fit: Ceres Solver for the landmark fit (brings Eigen 3, used by the light solve)
   libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)

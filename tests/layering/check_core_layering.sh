@@ -8,7 +8,7 @@ src=$2
 status=0
 needed=$(readelf -d "$lib" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
 [ -n "$needed" ] || { echo "FAIL: no NEEDED entries read from $lib"; exit 1; }
-forbidden='embree|OpenImageIO|OpenEXR|Imath|dlib|mpi|boost|libfacetool_(io|image|light|model|synth|data|face|distributed|train|inference|relight)'
+forbidden='embree|OpenImageIO|OpenEXR|Imath|dlib|ceres|mpi|boost|libfacetool_(io|image|light|model|synth|data|face|fit|distributed|train|inference|relight)'
 if bad=$(grep -E "$forbidden" <<<"$needed"); then
   echo "FAIL: $lib links to libraries above the compute core:"; echo "$bad"; status=1
 fi
@@ -20,7 +20,7 @@ for dir in "${core_dirs[@]}"; do
     echo "FAIL: the compute core includes a header from above it: $hit"; status=1
   done < <(grep -HnE '^#include "(core|backends)/' "$src/$dir"/*.h "$src/$dir"/*.cpp |
            grep -vE "#include \"($allowed)" || true)
-  if grep -lE '#include <(OpenImageIO|embree3|dlib|mpi)' "$src/$dir"/*.h "$src/$dir"/*.cpp; then
+  if grep -lE '#include <(OpenImageIO|embree3|dlib|ceres|mpi)' "$src/$dir"/*.h "$src/$dir"/*.cpp; then
     echo "FAIL: the compute core includes a third-party header of a layer above it"; status=1
   fi
 done

@@ -17,6 +17,7 @@
 #include "core/face/paste_back.h"
 #include "core/face/photo_reader.h"
 #include "core/face/rgba_png.h"
+#include "core/fit/photo_fit.h"
 #include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/util/error.h"
@@ -231,6 +232,10 @@ bool infer_photo(const std::string& path, const std::string& folder, FaceDetecto
     for (const FaceCrop& c : crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
     sheet_rows.insert(sheet_rows.begin(), annotated);
     write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
+  }
+  if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
+    const std::vector<DetectedFace> ordered = order_faces_by_size(faces);
+    options.with_fit->write(at("fit"), photo, ordered, options.with_fit->fit(photo, ordered), path);
   }
   return true;
 }

@@ -13,6 +13,8 @@
 
 namespace facetool {
 
+class PhotoFitter;
+
 struct PhotoInferOptions {
   DetectionOptions detection;
   std::string landmark_model = kDefaultLandmarkModel;
@@ -21,6 +23,7 @@ struct PhotoInferOptions {
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
   bool contact_sheet = true;
   int batch = 8;
+  const PhotoFitter* with_fit = nullptr;  // --with-fit: the landmark fit too, in <photo folder>/fit/
 };
 
 // The photo options of `infer` (also used by prepare-real for the detection ones).
