@@ -3,7 +3,7 @@
 #include "core/fit/fit_render.h"
 
 #include <algorithm>
-#include <chrono>
+#include <time.h>
 
 #include "core/synth/gbuffer.h"
 #include "core/synth/ray_scene.h"
@@ -12,9 +12,13 @@
 namespace facetool {
 
 namespace {
-double since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+// CPU time of the calling thread (timings that other processes on the machine do not skew).
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
+double since(double start) { return thread_cpu_seconds() - start; }
 }  // namespace
 
 FaceMesh fitted_mesh(const FaceModel& model, const FaceFit& fit) {
@@ -30,7 +34,7 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
                         const FitRenderSettings& settings) {
   check(fit.width > 0 && fit.height > 0, "render_fit: the fit has no photo size");
   check(!settings.visibility || sampler != nullptr, "render_fit: visibility needs a sampler");
-  const auto start = std::chrono::steady_clock::now();
+  const double start = thread_cpu_seconds();
   FitRendering out;
   out.width = fit.width;
   out.height = fit.height;
@@ -78,7 +82,7 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
   }
   out.seconds_geometry = since(start);
   if (settings.visibility) {
-    const auto visibility_start = std::chrono::steady_clock::now();
+    const double visibility_start = thread_cpu_seconds();
     std::vector<uint8_t> domain = dilate_mask(g.mask, fit.width, fit.height);
     for (size_t p = 0; p < plane; ++p) domain[p] = domain[p] && g.head[p];
     const float size = std::max({high.x - low.x, high.y - low.y, high.z - low.z});

@@ -28,7 +28,7 @@ struct FitRendering {
                                   // plane through the model's origin), the fit's units; 0 off the head
   std::vector<float> visibility;  // planar [9]: inside the mask dilated by one pixel, 0 elsewhere
   FaceMesh mesh;                  // the fitted mesh in the camera frame
-  double seconds_geometry = 0, seconds_visibility = 0;  // wall time: mesh + BVH + primary rays; visibility rays
+  double seconds_geometry = 0, seconds_visibility = 0;  // thread CPU time: mesh + BVH + primary rays; visibility rays
   int64_t rays_cast = 0;
 };
 

@@ -76,7 +76,13 @@ ShadingSolve solve_light_and_albedo(const std::vector<float>& image, const std::
         for (int i = 0; i < 9; ++i) a(r, i) = albedo[c * plane + p] * t[i * plane + p] / kPi;
         b(r) = image[c * plane + p];
       }
-      const Eigen::VectorXd l = a.colPivHouseholderQr().solve(b);
+      // Normal equations with a ridge on the orders above the DC (relative to the system's
+      // mean diagonal): on a face the normals span less than a hemisphere and the DC and
+      // first-order terms are nearly collinear; the ridge keeps the light plausible.
+      Eigen::MatrixXd ata = a.transpose() * a;
+      const double ridge = settings.light_ridge * ata.trace() / 9.0;
+      for (int i = 1; i < 9; ++i) ata(i, i) += ridge;
+      const Eigen::VectorXd l = ata.ldlt().solve(a.transpose() * b);
       for (int i = 0; i < 9; ++i) out.light[c * 9 + i] = l(i);
     }
     // Albedo: per channel, the locally constant a minimising sum over a window of

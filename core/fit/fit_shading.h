@@ -13,6 +13,8 @@ namespace facetool {
 
 struct ShadingSolveSettings {
   int rounds = 2;              // light solve, albedo solve; repeated
+  // Ridge on the light's orders 1-2, relative to the least-squares system's mean diagonal.
+  double light_ridge = 1e-2;
   int albedo_radius = 0;       // box radius of the local albedo fit, pixels (0: width / 40, at least 1)
   // The ambiguity albedo_c x k_c, light_c / k_c is fixed by a light whose DC term is the same in
   // every channel and by this mean albedo over the mask and channels.

@@ -147,5 +147,56 @@ TEST_F(FitCliTest, InferWithFitWritesTheFitBesideTheNetworksOutput) {
   EXPECT_TRUE(fs::is_regular_file(dir_ / "out" / "astronaut" / "fit" / "fit.json"));
 }
 
+TEST_F(FitCliTest, PseudoLabelFromFitLabelsRealSamples) {
+  ASSERT_EQ(run("prepare-real " + at("photos/astronaut.png") + " -o " + at("real"), at("log")), 0) << read_text(at("log"));
+  ASSERT_EQ(run("pseudo-label --from fit --face-model " + model_ + " --directions 64 " + at("real/sample_00000000.exr") +
+                    " -o " + at("labelled"), at("log")), 0)
+      << read_text(at("log"));
+  const LayeredImage in = read_exr(at("real/sample_00000000.exr"), "facetool:");
+  const LayeredImage out = read_exr(at("labelled/sample_00000000.exr"), "facetool:");
+  EXPECT_EQ(out.width, in.width);
+  for (const char* channel : {"R", "mask", "albedo.R", "albedo.B", "normal.X", "normal.Z", "visibility.0", "visibility.8"})
+    EXPECT_GE(out.find_channel(channel), 0) << channel;
+  ASSERT_NE(out.find_metadata("facetool:light_sh"), nullptr);
+  std::istringstream light(*out.find_metadata("facetool:light_sh"));
+  int numbers = 0;
+  double dc = 0;
+  for (double v; light >> v; ++numbers)
+    if (numbers == 0) dc = v;
+  EXPECT_EQ(numbers, 27);
+  EXPECT_GT(dc, 0.0) << "the photo is lit: the light's DC term is positive";
+  EXPECT_EQ(*out.find_metadata("facetool:pseudo_labels"), "fit");
+  EXPECT_EQ(*out.find_metadata("facetool:generator_version"), "facetool-real-1");
+  // The fitted mask covers most of the landmark hull, and its normals are unit vectors there.
+  const float* hull = in.plane(in.find_channel("mask"));
+  const float* mask = out.plane(out.find_channel("mask"));
+  const float* nz = out.plane(out.find_channel("normal.Z"));
+  double both = 0, inside = 0, fitted = 0, facing = 0;
+  for (size_t p = 0; p < out.plane_size(); ++p) {
+    inside += hull[p] > 0.5f;
+    both += hull[p] > 0.5f && mask[p] > 0.5f;
+    fitted += mask[p] > 0.5f;
+    facing += mask[p] > 0.5f && nz[p] > 0.0f;  // interpolated normals may tip over at silhouettes
+  }
+  EXPECT_GT(both, 0.9 * inside);
+  EXPECT_GT(facing, 0.97 * fitted);
+  // Without landmarks (a plain crop) the fit has nothing to fit: a clear error.
+  EXPECT_EQ(run("pseudo-label --from fit --face-model " + model_ + " " + at("photos/astronaut.png") + " -o " + at("x"), at("log")), 1);
+  EXPECT_NE(read_text(at("log")).find("facetool:landmarks"), std::string::npos) << read_text(at("log"));
+}
+
+TEST_F(FitCliTest, SamePersonSharesTheIdentityAcrossPhotos) {
+  ASSERT_EQ(run(fit_args() + "--no-visibility --no-contact-sheet --same-person " + at("photos/astronaut.png") + " " +
+                    at("photos/grace_hopper_512x512.jpg") + " -o " + at("out"), at("log")), 0)
+      << read_text(at("log"));
+  auto identity = [&](const char* stem) {
+    const std::string json = read_text(dir_ / "out" / stem / "fit.json");
+    const size_t begin = json.find("\"identity\": [");
+    return json.substr(begin, json.find(']', begin) - begin);
+  };
+  EXPECT_EQ(identity("astronaut"), identity("grace_hopper_512x512"));
+  EXPECT_GT(identity("astronaut").size(), 100u);
+}
+
 }  // namespace
 }  // namespace facetool

@@ -80,6 +80,8 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
   fs::create_directories(out_dir);
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
   for (const std::string& file : files) {
+    check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
+          "needs the samples of `facetool prepare-real` (their facetool:landmarks)");
     const LayeredImage sample = read_exr(file);
     const std::string name = fs::path(file).filename().string();
     write_exr_atomically((fs::path(out_dir) / name).string(),
@@ -132,7 +134,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
     throw UsageError(std::string("pseudo-label --from fit: give --face-model DIR: ") + kIctFaceKitHint);
   if (from == "fit" && values.count("model")) throw UsageError("pseudo-label: --model is for --from network");
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
-  if (model.empty()) model = default_model_path();
+  if (model.empty() && from == "network") model = default_model_path();
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
   std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)
