@@ -11,6 +11,7 @@ packages=(
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
   python3-pip  # install time only: fetches dlib's CNN face detector model (below)
+  libceres-dev  # facetool fit: Ceres Solver for the landmark fit (brings Eigen 3, used by the light solve)
   libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
   pybind11-dev python3-dev python3-numpy  # the Python module (import facetool; docs/python.md)
   python3-pytest  # tests only: the Python module's tests (tests/python)

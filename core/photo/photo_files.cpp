@@ -12,6 +12,7 @@
 #include "core/face/landmark_drawing.h"
 #include "core/face/photo_reader.h"
 #include "core/face/rgba_png.h"
+#include "core/fit/photo_fit.h"
 #include "core/io/exr_io.h"
 #include "core/io/layered_image.h"
 #include "core/photo/decomposition_files.h"
@@ -124,6 +125,12 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     for (const FaceCrop& c : photo.crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
     sheet_rows.insert(sheet_rows.begin(), annotated);
     write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
+  }
+  if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
+    std::vector<DetectedFace> faces;
+    for (const FaceCrop& c : photo.crops) faces.push_back(c.face);
+    const std::vector<DetectedFace> ordered = order_faces_by_size(faces);
+    options.with_fit->write(at("fit"), photo.photo, ordered, options.with_fit->fit(photo.photo, ordered), photo.path);
   }
 }
 

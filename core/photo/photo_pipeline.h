@@ -17,6 +17,8 @@
 
 namespace facetool {
 
+class PhotoFitter;
+
 struct PhotoInferOptions {
   DetectionOptions detection;
   std::string landmark_model = kDefaultLandmarkModel;
@@ -26,6 +28,7 @@ struct PhotoInferOptions {
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
   bool contact_sheet = true;
   int batch = 8;
+  const PhotoFitter* with_fit = nullptr;  // --with-fit: the landmark fit too, in <photo folder>/fit/
 };
 
 // PHOTO|DIR arguments as photo files: a folder gives its image files (by extension, sorted, not

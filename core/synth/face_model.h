@@ -46,6 +46,9 @@ class FaceModel {
   const std::vector<int32_t>& landmarks() const { return landmarks_; }
   // The neutral face (reference positions = positions).
   const FaceMesh& neutral() const { return neutral_; }
+  // Offsets of shape mode k per kept vertex (what build() adds times its weight): for fitting.
+  const std::vector<Vec3f>& identity_mode(int k) const { return identity_modes_[k]; }
+  const std::vector<Vec3f>& expression_mode(int k) const { return expression_modes_[k]; }
 
   // neutral + sum w_k identity_k + sum e_k expression_k; the weights' sizes must match.
   FaceMesh build(const ShapeWeights& weights) const;

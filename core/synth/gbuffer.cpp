@@ -3,12 +3,11 @@
 
 namespace facetool {
 
-GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
-                          const std::vector<Vec3f>& normals, const Camera& camera) {
+GBuffer empty_gbuffer(int width, int height) {
   GBuffer g;
-  g.width = camera.width;
-  g.height = camera.height;
-  const size_t count = static_cast<size_t>(g.width) * g.height;
+  g.width = width;
+  g.height = height;
+  const size_t count = static_cast<size_t>(width) * height;
   g.head.assign(count, 0);
   g.mask.assign(count, 0);
   g.position.assign(count, Vec3f{});
@@ -16,27 +15,36 @@ GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
   g.depth.assign(count, 0.0f);
   g.reference.assign(count, Vec3f{});
   g.part.assign(count, FacePart::kOther);
-  const Vec3f eye = camera.eye();
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      const Vec3f direction = camera.ray_direction(x, y);
-      const RayScene::Hit hit = scene.intersect(eye, direction);
-      if (hit.triangle < 0) continue;
-      const auto& t = mesh.triangles[hit.triangle];
-      const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-      if (dot(cross(b - a, c - a), direction) >= 0.0f) continue;  // back face
-      const float w0 = 1.0f - hit.u - hit.v, w1 = hit.u, w2 = hit.v;
-      const size_t p = static_cast<size_t>(y) * g.width + x;
-      g.head[p] = 1;
-      g.mask[p] = is_face_region_part(mesh.triangle_parts[hit.triangle]) ? 1 : 0;
-      g.position[p] = a * w0 + b * w1 + c * w2;
-      g.normal[p] = normalized(normals[t[0]] * w0 + normals[t[1]] * w1 + normals[t[2]] * w2);
-      g.depth[p] = eye.z - g.position[p].z;
-      const auto& r = mesh.reference_positions;
-      g.reference[p] = r[t[0]] * w0 + r[t[1]] * w1 + r[t[2]] * w2;
-      g.part[p] = mesh.triangle_parts[hit.triangle];
-    }
   return g;
+}
+
+bool shade_primary_hit(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
+                       Vec3f origin, Vec3f direction, float eye_z, size_t p, GBuffer& g) {
+  const RayScene::Hit hit = scene.intersect(origin, direction);
+  if (hit.triangle < 0) return false;
+  const auto& t = mesh.triangles[hit.triangle];
+  const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+  if (dot(cross(b - a, c - a), direction) >= 0.0f) return false;  // back face
+  const float w0 = 1.0f - hit.u - hit.v, w1 = hit.u, w2 = hit.v;
+  g.head[p] = 1;
+  g.mask[p] = is_face_region_part(mesh.triangle_parts[hit.triangle]) ? 1 : 0;
+  g.position[p] = a * w0 + b * w1 + c * w2;
+  g.normal[p] = normalized(normals[t[0]] * w0 + normals[t[1]] * w1 + normals[t[2]] * w2);
+  g.depth[p] = eye_z - g.position[p].z;
+  const auto& r = mesh.reference_positions;
+  g.reference[p] = r[t[0]] * w0 + r[t[1]] * w1 + r[t[2]] * w2;
+  g.part[p] = mesh.triangle_parts[hit.triangle];
+  return true;
+}
+
+GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
+                          const std::vector<Vec3f>& normals, const Camera& camera) {
+  const Vec3f eye = camera.eye();
+  return cast_rays(scene, mesh, normals, camera.width, camera.height, eye.z,
+                   [&](int x, int y, Vec3f& origin, Vec3f& direction) {
+                     origin = eye;
+                     direction = camera.ray_direction(x, y);
+                   });
 }
 
 namespace {

@@ -29,6 +29,33 @@ struct GBuffer {
 GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
                           const std::vector<Vec3f>& normals, const Camera& camera);
 
+// The same for any camera: `ray(x, y, origin, direction)` gives the ray through the centre of
+// pixel (x, y) (e.g. parallel rays for an orthographic camera); depth is eye_z - position.z.
+template <typename RayFunction>
+GBuffer cast_rays(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
+                  int width, int height, float eye_z, const RayFunction& ray);
+
+// One pixel of a G-buffer from the hit of the ray (origin, direction); false for a miss or a
+// back face (then the pixel stays empty). Shared by cast_primary_rays and cast_rays.
+bool shade_primary_hit(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
+                       Vec3f origin, Vec3f direction, float eye_z, size_t pixel, GBuffer& g);
+// An empty G-buffer of width x height.
+GBuffer empty_gbuffer(int width, int height);
+
+template <typename RayFunction>
+GBuffer cast_rays(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
+                  int width, int height, float eye_z, const RayFunction& ray) {
+  GBuffer g = empty_gbuffer(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      Vec3f origin, direction;
+      ray(x, y, origin, direction);
+      shade_primary_hit(scene, mesh, normals, origin, direction, eye_z,
+                        static_cast<size_t>(y) * width + x, g);
+    }
+  return g;
+}
+
 // The mask eroded by one pixel (3x3 neighbourhood; pixels beyond the border count as outside),
 // the region the paper's losses use.
 std::vector<uint8_t> erode_mask(const std::vector<uint8_t>& mask, int width, int height);

@@ -165,30 +165,8 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   std::vector<uint8_t> domain =
       settings_.visibility_on_whole_head ? g.head : dilate_mask(g.mask, s.width, s.height);
   for (size_t p = 0; p < plane; ++p) domain[p] = domain[p] && g.head[p];
-  // Domain pixels in 4x4 tiles, so that each group of 16 holds neighbours.
-  std::vector<int> cast_pixels;
-  cast_pixels.reserve(plane);
-  for (int ty = 0; ty < s.height; ty += 4)
-    for (int tx = 0; tx < s.width; tx += 4)
-      for (int y = ty; y < std::min(ty + 4, s.height); ++y)
-        for (int x = tx; x < std::min(tx + 4, s.width); ++x) {
-          const size_t p = static_cast<size_t>(y) * s.width + x;
-          if (domain[p]) cast_pixels.push_back(static_cast<int>(p));
-        }
-  for (size_t first = 0; first < cast_pixels.size(); first += 16) {
-    const int count = static_cast<int>(std::min<size_t>(16, cast_pixels.size() - first));
-    Vec3f points[16], normals_here[16];
-    float visibility[16 * 9];
-    for (int k = 0; k < count; ++k) {
-      points[k] = g.position[cast_pixels[first + k]];
-      normals_here[k] = g.normal[cast_pixels[first + k]];
-    }
-    s.rays_cast += visibility_.integrate_group(scene, points, normals_here, count,
-                                               settings_.ray_offset, visibility);
-    for (int k = 0; k < count; ++k)
-      for (int i = 0; i < 9; ++i)
-        s.visibility[i * plane + cast_pixels[first + k]] = visibility[9 * k + i];
-  }
+  s.rays_cast += integrate_visibility_image(visibility_, scene, g.position, g.normal, domain,
+                                            s.width, s.height, settings_.ray_offset, s.visibility);
   s.seconds_visibility = since(visibility_start);
   const double shading_start = thread_cpu_seconds();
   std::vector<int> head, face;

@@ -1,6 +1,7 @@
 // Hemisphere-only ray casting in packets of 16 and SH accumulation of the open directions.
 #include "core/synth/visibility.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/sh/sh_basis.h"
@@ -79,6 +80,42 @@ void VisibilitySampler::open_hemisphere(Vec3f n, float out[9]) const {
     for (int i = 0; i < 9; ++i) sum[i] += basis_[static_cast<size_t>(s) * 9 + i];
   }
   for (int i = 0; i < 9; ++i) out[i] = static_cast<float>(sum[i] * weight_);
+}
+
+int64_t integrate_visibility_image(const VisibilitySampler& sampler, const RayScene& scene,
+                                   const std::vector<Vec3f>& position,
+                                   const std::vector<Vec3f>& normal,
+                                   const std::vector<uint8_t>& domain, int width, int height,
+                                   float offset, std::vector<float>& planar_out) {
+  const size_t plane = static_cast<size_t>(width) * height;
+  check(domain.size() == plane && position.size() == plane && normal.size() == plane,
+        "integrate_visibility_image: buffers do not match ", width, "x", height);
+  planar_out.assign(9 * plane, 0.0f);
+  // Domain pixels in 4x4 tiles, so that each group of 16 holds neighbours.
+  std::vector<int> cast_pixels;
+  cast_pixels.reserve(plane);
+  for (int ty = 0; ty < height; ty += 4)
+    for (int tx = 0; tx < width; tx += 4)
+      for (int y = ty; y < std::min(ty + 4, height); ++y)
+        for (int x = tx; x < std::min(tx + 4, width); ++x) {
+          const size_t p = static_cast<size_t>(y) * width + x;
+          if (domain[p]) cast_pixels.push_back(static_cast<int>(p));
+        }
+  int64_t rays = 0;
+  for (size_t first = 0; first < cast_pixels.size(); first += 16) {
+    const int count = static_cast<int>(std::min<size_t>(16, cast_pixels.size() - first));
+    Vec3f points[16], normals_here[16];
+    float visibility[16 * 9];
+    for (int k = 0; k < count; ++k) {
+      points[k] = position[cast_pixels[first + k]];
+      normals_here[k] = normal[cast_pixels[first + k]];
+    }
+    rays += sampler.integrate_group(scene, points, normals_here, count, offset, visibility);
+    for (int k = 0; k < count; ++k)
+      for (int i = 0; i < 9; ++i)
+        planar_out[i * plane + cast_pixels[first + k]] = visibility[9 * k + i];
+  }
+  return rays;
 }
 
 }  // namespace facetool

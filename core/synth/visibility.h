@@ -38,4 +38,14 @@ class VisibilitySampler {
   float weight_;              // 4 pi / N
 };
 
+// The visibility image: for every pixel of `domain` (width x height, row-major), the 9
+// coefficients at its surface point `position` with normal `normal`, cast in 4x4 tiles of 16
+// neighbours (integrate_group); planar output [9][width * height], 0 outside the domain. Used by
+// the synthetic generator and by the fit's rendering. Returns the number of rays cast.
+int64_t integrate_visibility_image(const VisibilitySampler& sampler, const RayScene& scene,
+                                   const std::vector<Vec3f>& position,
+                                   const std::vector<Vec3f>& normal,
+                                   const std::vector<uint8_t>& domain, int width, int height,
+                                   float offset, std::vector<float>& planar_out);
+
 }  // namespace facetool

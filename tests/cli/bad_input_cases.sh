@@ -181,6 +181,7 @@ synth|lights|synth --mesh {FX}/triangle.obj --lights {BAD} -o {OUT}/synth --size
 synth|backgrounds|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt --backgrounds {BAD} -o {OUT}/synth --size 16
 synth|face-model|synth --face-model {BAD} --lights {FX}/light_sfsnet.txt -o {OUT}/synth --size 16
 plugins|plugin|--plugin {BAD} plugins
+fit|face-model|fit --face-model {BAD} {FX}/face.png -o {OUT}/fit
 EOF
 }
 
@@ -286,6 +287,23 @@ synth/lights-empty-folder|empty_dir|synth --mesh {FX}/triangle.obj --lights {FX}
 synth/lights-nan|nan_sfsnet.txt|synth --mesh {FX}/triangle.obj --lights {FX}/nan_sfsnet.txt -o {OUT}/synth --size 16
 synth/unknown-renderer|nonsense|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/synth --renderer nonsense --size 16
 synth/output-is-a-file|out.png|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/out.png --size 16
+fit/no-images|input photos|fit --face-model {FX}/folder -o {OUT}/fit
+fit/no-output|-o|fit --face-model {FX}/folder {FX}/face.png
+fit/no-face-model|--face-model|fit {FX}/face.png -o {OUT}/fit
+fit/camera-unknown|--camera|fit --face-model {FX}/folder --camera fisheye {FX}/face.png -o {OUT}/fit
+fit/jaw-unknown|--jaw|fit --face-model {FX}/folder --jaw nonsense {FX}/face.png -o {OUT}/fit
+fit/fov-0|--fov|fit --face-model {FX}/folder --fov 0 {FX}/face.png -o {OUT}/fit
+fit/fov-nan|--fov|fit --face-model {FX}/folder --fov nan {FX}/face.png -o {OUT}/fit
+fit/directions-0|--directions|fit --face-model {FX}/folder --directions 0 {FX}/face.png -o {OUT}/fit
+fit/identity-prior-negative|--identity-prior|fit --face-model {FX}/folder --identity-prior=-1 {FX}/face.png -o {OUT}/fit
+fit/shard-out-of-range|--shard|fit --face-model {FX}/folder --shard 3/2 {FX}/face.png -o {OUT}/fit
+fit/output-is-a-file|out.png|fit --face-model {FX}/folder {FX}/face.png -o {OUT}/out.png
+fit/image-missing|does_not_exist.png|fit --face-model {FX}/folder {FX}/does_not_exist.png -o {OUT}/fit
+fit/infer-with-fit-no-face-model|--face-model|infer --with-fit --init random {FX}/face.png -o {OUT}/infer
+fit/infer-with-fit-aligned|--with-fit|infer --with-fit --aligned --init random --face-model {FX}/folder {FX}/face.png -o {OUT}/infer
+fit/pseudo-label-from-unknown|--from|pseudo-label --from nonsense {FX}/face.png -o {OUT}/pl
+fit/pseudo-label-fit-no-face-model|--face-model|pseudo-label --from fit {FX}/face.png -o {OUT}/pl
+fit/pseudo-label-fit-and-model|--model|pseudo-label --from fit --face-model {FX}/folder --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/pl
 EOF
 }
 

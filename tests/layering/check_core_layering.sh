@@ -9,7 +9,7 @@ status=0
 needed=$(readelf -d "$lib" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
 [ -n "$needed" ] || { echo "FAIL: no NEEDED entries read from $lib"; exit 1; }
 # Any facetool library but the core itself (libfacetool.so, libfacetool_<name>).
-forbidden='embree|OpenImageIO|OpenEXR|Imath|dlib|mpi|boost|libfacetool[._]'
+forbidden='embree|OpenImageIO|OpenEXR|Imath|dlib|ceres|mpi|boost|libfacetool[._]'
 if bad=$(grep -E "$forbidden" <<<"$needed" | grep -v '^libfacetool_core\.so'); then
   echo "FAIL: $lib links to libraries above the compute core:"; echo "$bad"; status=1
 fi
@@ -21,7 +21,7 @@ for dir in "${core_dirs[@]}"; do
     echo "FAIL: the compute core includes a header from above it: $hit"; status=1
   done < <(grep -HnE '^#include "(core|backends)/' "$src/$dir"/*.h "$src/$dir"/*.cpp |
            grep -vE "#include \"($allowed)" || true)
-  if grep -lE '#include <(OpenImageIO|embree3|dlib|mpi)' "$src/$dir"/*.h "$src/$dir"/*.cpp; then
+  if grep -lE '#include <(OpenImageIO|embree3|dlib|ceres|mpi)' "$src/$dir"/*.h "$src/$dir"/*.cpp; then
     echo "FAIL: the compute core includes a third-party header of a layer above it"; status=1
   fi
 done

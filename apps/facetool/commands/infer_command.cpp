@@ -10,6 +10,8 @@
 #include "core/photo/decomposition_files.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_options.h"
+#include "apps/facetool/fit/fit_options.h"
+#include "core/fit/photo_fit.h"
 #include "core/util/shard.h"
 #include "core/backend/registry.h"
 #include "core/image/resize.h"
@@ -36,8 +38,11 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png, with --shard i/n <output>/contact_sheet-<i>-of-<n>.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
-      ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment");
+      ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment")
+      ("with-fit", "also fit the ICT-FaceKit model to every face and write `facetool fit`'s files in <name>/fit/ (docs/fit.md)")
+      ("face-model", po::value<std::string>()->value_name("DIR"), "--with-fit: the ICT-FaceKit FaceXModel folder");
   add_network_options(options);
+  add_fit_options(options);
   add_photo_infer_options(options);
   po::options_description hidden;
   std::string out_dir;
@@ -68,7 +73,11 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<OptionRange> ranges = network_option_ranges();
   ranges.push_back({"batch", 1, 1024});
   for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
+  for (const OptionRange& range : fit_option_ranges()) ranges.push_back(range);
   check_option_ranges(values, ranges);
+  if (values.count("with-fit") && values.count("aligned")) throw UsageError("infer: --with-fit needs photos, not --aligned crops");
+  if (values.count("with-fit") && !values.count("face-model"))
+    throw UsageError(std::string("infer --with-fit: give --face-model DIR: ") + kIctFaceKitHint);
 
   if (!values.count("images")) throw UsageError("infer: no input images given");
   check_output_option(values, "infer", "an output folder with -o DIR");
@@ -118,6 +127,13 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
                                                  values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
+  std::unique_ptr<PhotoFitter> fitter;
+  if (values.count("with-fit")) {
+    fitter = std::make_unique<PhotoFitter>(
+        std::make_shared<const FitBasis>(FitBasis::load(values["face-model"].as<std::string>())),
+        fit_options_from(values));
+    photo_options.with_fit = fitter.get();
+  }
   if (!aligned) {
     const std::unique_ptr<FaceDetector> detector = make_face_detector(photo_options);
     PhotoDecomposer photo_decomposer(*detector, decomposer, backend, size, photo_options);

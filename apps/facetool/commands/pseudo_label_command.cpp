@@ -8,6 +8,8 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "apps/facetool/fit/fit_options.h"
+#include "core/fit/fit_labels.h"
 #include "core/model/default_model.h"
 #include "core/util/shard.h"
 #include "core/backend/registry.h"
@@ -70,17 +72,43 @@ LayeredImage labelled_sample(const FaceInput& in, const Decomposition& d, int in
   return out;
 }
 
+// --from fit: each prepare-real sample labelled by the fit to its landmarks.
+int pseudo_label_from_fit(const std::vector<std::string>& files, const std::string& out_dir,
+                          const po::variables_map& values) {
+  const PhotoFitOptions options = fit_options_from(values);
+  const FitBasis basis = FitBasis::load(values["face-model"].as<std::string>());
+  const VisibilitySampler sampler(options.direction_count);
+  fs::create_directories(out_dir);
+  ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
+  for (const std::string& file : files) {
+    check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
+          "needs the samples of `facetool prepare-real` (their facetool:landmarks)");
+    const LayeredImage sample = read_exr(file);
+    const std::string name = fs::path(file).filename().string();
+    write_exr_atomically((fs::path(out_dir) / name).string(),
+                         fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
+    progress.advance();
+  }
+  progress.finish();
+  std::cerr << "wrote " << files.size() << " fit-labelled samples to " << out_dir << "\n";
+  return 0;
+}
+
 int run_pseudo_label(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
-  std::string model, out_dir, shard = "0/1";
+  std::string model, out_dir, shard = "0/1", from = "network";
   int batch = 8;
   options.add_options()
+      ("from", po::value(&from)->default_value("network")->value_name("network|fit"),
+       "where the labels come from: the trained network, or the ICT-FaceKit fit to the samples' landmarks")
+      ("face-model", po::value<std::string>()->value_name("DIR"), "--from fit: the ICT-FaceKit FaceXModel folder")
       ("model", po::value(&model)->value_name("WEIGHTS"),
        "trained weights (stage 1's weights.safetensors; default: the shipped model)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(), "output folder")
       ("batch", po::value(&batch)->default_value(8), "images per network run")
       ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
        "label only the inputs i, i+n, i+2n, ... (Slurm array jobs; same file names as unsharded)");
+  add_fit_options(options);
   po::options_description hidden;
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "inputs");
   po::positional_options_description positional;
@@ -93,12 +121,21 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
           "visibility.0..8, attribute facetool:light_sh),\nso that stage 2 reads them like "
           "synthetic samples. Inputs: sample EXRs of `facetool prepare-real`\n(kept whole, same "
           "file name, their mask used) or plain face crops (PNG/JPEG decoded from sRGB,\nresized; "
-          "written as sample_<n>.exr in input order with a mask of 1 everywhere).",
+          "written as sample_<n>.exr in input order with a mask of 1 everywhere).\n\nWith --from fit "
+          "(prepare-real samples only): the ICT-FaceKit model fitted to each sample's\nlandmarks gives "
+          "the normals, visibility and mask; light and a smooth albedo follow from the\nsample's pixels by "
+          "least squares (docs/fit.md).",
           options, positional, args, values, hidden))
     return 0;
-  check_option_ranges(values, {{"batch", 1, 1024}});
+  std::vector<OptionRange> ranges = fit_option_ranges();
+  ranges.push_back({"batch", 1, 1024});
+  check_option_ranges(values, ranges);
+  if (from != "network" && from != "fit") throw UsageError("pseudo-label: --from must be network or fit; got '" + from + "'");
+  if (from == "fit" && !values.count("face-model"))
+    throw UsageError(std::string("pseudo-label --from fit: give --face-model DIR: ") + kIctFaceKitHint);
+  if (from == "fit" && values.count("model")) throw UsageError("pseudo-label: --model is for --from network");
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
-  if (model.empty()) model = default_model_path();
+  if (model.empty() && from == "network") model = default_model_path();
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
   std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
   for (const std::string& f : files)
@@ -114,6 +151,8 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   }
   check(!mine.empty(), "pseudo-label: shard ", shard, " holds no inputs (fewer inputs than shards)");
   files = std::move(mine);
+
+  if (from == "fit") return pseudo_label_from_fit(files, out_dir, values);
 
   Backend& backend = get_backend(context.backend);
   auto network = load_trained_network(context, backend, model);
