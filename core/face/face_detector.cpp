@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 
@@ -52,9 +53,10 @@ struct FaceDetector::Impl {
 };
 
 FaceDetector::FaceDetector(const std::string& landmark_model) : impl_(std::make_unique<Impl>()) {
-  check(std::filesystem::is_regular_file(landmark_model), "landmark model '", landmark_model,
+  check(std::filesystem::exists(landmark_model), "landmark model '", landmark_model,
         "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
         "--landmark-model FILE");
+  check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
   try {
     dlib::deserialize(landmark_model) >> impl_->predictor;
   } catch (const std::exception& e) {

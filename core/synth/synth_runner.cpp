@@ -16,6 +16,7 @@
 #include "core/util/atomic_file.h"
 #include "core/synth/contact_sheet.h"
 #include "core/util/error.h"
+#include "core/util/folder_lock.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -80,6 +81,10 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   fs::create_directories(options.output_dir, error);
   check(fs::is_directory(options.output_dir), "cannot create output folder '",
         options.output_dir, "': ", error.message());
+  // One run per folder; the shards of one sharded run write disjoint samples and share it.
+  const FolderLock lock(options.output_dir, "--out",
+                        options.shard_count > 1 ? FolderLock::Mode::kShared
+                                                : FolderLock::Mode::kExclusive);
   remove_stale_temporary_files(options.output_dir);
 
   std::vector<int64_t> indices;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -16,12 +17,17 @@
 #include "core/model/network_weights.h"
 #include "core/train/loss_curve.h"
 #include "core/train/trainer.h"
+#include "core/util/file_checks.h"
+#include "core/util/folder_lock.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
 
 namespace facetool {
 namespace {
+
+// A run's log is one line per step: 1 GiB is millions of steps.
+constexpr uint64_t kMaxLogFileBytes = uint64_t{1} << 30;
 
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int signal) { g_stop_signal.store(signal); }
@@ -30,13 +36,17 @@ extern "C" void on_stop_signal(int signal) { g_stop_signal.store(signal); }
 // rest), and returns the (step, total) points of the training lines.
 std::vector<std::pair<double, double>> trim_log(const std::string& path, int64_t last_step) {
   std::vector<std::pair<double, double>> points;
-  std::ifstream in(path);
+  std::error_code missing;
+  if (!std::filesystem::exists(path, missing)) return points;
+  std::istringstream in(read_regular_input_file(path, kMaxLogFileBytes, "training log"));
   std::string line, kept;
   while (std::getline(in, line)) {
     const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.contains("step") || j["step"].get<int64_t>() > last_step) continue;
+    if (j.is_discarded() || !j.is_object() || !j.contains("step") || !j["step"].is_number() ||
+        j["step"].get<double>() > static_cast<double>(last_step))
+      continue;
     kept += line + "\n";
-    if (j.contains("total")) points.emplace_back(j["step"].get<double>(), j["total"].get<double>());
+    if (j.contains("total") && j["total"].is_number()) points.emplace_back(j["step"].get<double>(), j["total"].get<double>());
   }
   write_file_atomically(path, kept.data(), kept.size());
   return points;
@@ -60,13 +70,15 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       ("time-limit", po::value(&time_limit_minutes)->value_name("MINUTES"),
        "stop after this much wall time in this process (checkpoint written; --resume continues): "
        "runs of equal time, sittings of a long run")
-      ("resume", "continue the run in RUN from its checkpoint, exactly (same losses on cpu)");
+      ("resume", "continue the run in RUN from its checkpoint, exactly (same losses on cpu)")
+      ("overwrite", "start afresh in a RUN that holds another run's weights or log (without a "
+       "checkpoint to resume): they are replaced");
   po::variables_map values;
   if (!parse_command_options(
           "train --config FILE.json --out RUN [options]",
           "Trains the network for one stage of the paper (or any configuration), with the loss "
           "terms of the loaded loss plugins. Writes a checkpoint every checkpoint_every steps, on "
-          "Ctrl-C / SIGTERM and at the end; --resume continues from it. Under mpirun -np K the "
+          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np K the "
           "ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes the "
           "run folder.",
           options, {}, args, values))
@@ -103,6 +115,18 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   const std::string weights = (fs::path(out) / "weights.safetensors").string();
   const std::string curve = (fs::path(out) / "loss.png").string();
   std::vector<std::pair<double, double>> points;
+  // One run per folder: a second train (or any facetool run) into RUN is refused while this one
+  // writes there. Only rank 0 writes, so only rank 0 locks.
+  std::unique_ptr<FolderLock> lock;
+  if (writer) {
+    if (!resume) {
+      std::error_code ec;
+      fs::create_directories(out, ec);
+      check(!ec, "cannot create --out '", out, "': ", ec.message());
+    }
+    check_input_folder(out, "--out");
+    lock = std::make_unique<FolderLock>(out, "--out");
+  }
   if (resume) {
     check(fs::exists(checkpoint), "--resume: '", checkpoint, "' does not exist; start the run ",
           "without --resume");
@@ -112,7 +136,11 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   } else {
     check(!fs::exists(checkpoint), "'", out, "' already holds a run (", checkpoint,
           "); pass --resume to continue it or choose another --out");
-    fs::create_directories(out);
+    // A finished or diverged run without a checkpoint still holds results worth keeping.
+    for (const std::string& earlier : {weights, log_path})
+      check(!fs::exists(earlier) || values.count("overwrite"), "--out '", out,
+            "' holds another run's results ('", earlier, "') but no checkpoint to resume; ",
+            "choose another --out, or pass --overwrite to replace them");
     if (!from.empty()) {
       const SafeTensors file = SafeTensors::read_file(from);
       if (file.metadata().count("format") && file.metadata().at("format") == "facetool-checkpoint") {
@@ -136,11 +164,11 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   }
 
   g_stop_signal.store(0);
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  // SIGHUP (the terminal closed, the session ended) stops like SIGTERM: checkpoint first.
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, on_stop_signal);
   auto save_all = [&] {
     if (!writer) return;
-    trainer.save(checkpoint);
+    trainer.save(checkpoint);  // throws TrainingDiverged rather than write non-finite weights
     save_network_weights(trainer.network(), config.network, weights);
     write_loss_curve(curve, points);
   };
@@ -151,13 +179,16 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   double last_draw = -1.0;
   int exit_code = 0;
   bool out_of_time = false;
+  auto report_divergence = [&](const TrainingDiverged& e) {
+    std::cerr << "\n" << e.what() << " (" << checkpoint << ")\n";
+    exit_code = 3;
+  };
   while (trainer.steps_done() < config.steps) {
     StepRecord r;
     try {
       r = trainer.step();
     } catch (const TrainingDiverged& e) {
-      std::cerr << "\n" << e.what() << " (" << checkpoint << ")\n";
-      exit_code = 3;
+      report_divergence(e);
       break;
     }
     images += r.images;
@@ -181,7 +212,14 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
                   << v.normal_error_mean_deg << " +- " << v.normal_error_std_deg << " deg\n";
       }
     }
-    if (r.step % config.checkpoint_every == 0 && !last) save_all();
+    if (r.step % config.checkpoint_every == 0 && !last) {
+      try {
+        save_all();
+      } catch (const TrainingDiverged& e) {
+        report_divergence(e);
+        break;
+      }
+    }
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (writer && (elapsed - last_draw > 0.2 || last)) {
@@ -216,11 +254,18 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     }
   }
   if (writer) std::cerr << "\n";
+  if (exit_code != 3) {
+    try {
+      save_all();
+    } catch (const TrainingDiverged& e) {
+      report_divergence(e);
+    }
+  }
   if (exit_code == 3) {
     if (writer) write_loss_curve(curve, points);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, SIG_DFL);
     return exit_code;
   }
-  save_all();
   if (writer && exit_code != 0)
     std::cerr << "stopped by signal at step " << trainer.steps_done() << "; checkpoint written to "
               << checkpoint << " (continue with --resume)\n";
@@ -230,8 +275,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
               << checkpoint << " (continue with --resume); weights in " << weights << "\n";
   else if (writer)
     std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << weights << "\n";
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, SIG_DFL);
   return exit_code;
 }
 

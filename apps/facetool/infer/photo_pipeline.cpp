@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <new>
 #include <sstream>
 
 #include "apps/facetool/infer/infer_outputs.h"
@@ -20,7 +21,11 @@
 #include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/memory_budget.h"
+#include "core/util/output_names.h"
 #include "core/util/progress_bar.h"
+#include "core/util/terminal_text.h"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -155,6 +160,10 @@ bool infer_photo(const std::string& path, const std::string& folder, FaceDetecto
   const int n = static_cast<int>(crops.size());
   const Decomposition d = decompose_all(decomposer, backend, inputs, n, size, options.batch);
 
+  // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
+  check_memory_budget(plane * 47 * sizeof(float),
+                      "pasting the faces back into photo '" + path + "' of " + std::to_string(w) +
+                          "x" + std::to_string(h) + " pixels");
   std::error_code ec;
   fs::create_directories(folder, ec);
   check(!ec, "cannot create output folder '", folder, "': ", ec.message());
@@ -232,6 +241,13 @@ bool infer_photo(const std::string& path, const std::string& folder, FaceDetecto
     sheet_rows.insert(sheet_rows.begin(), annotated);
     write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
   }
+  // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
+  // replaced by this run's, which has fewer faces (faces.json lists them).
+  for (int k = n;; ++k) {
+    const fs::path stale = fs::path(folder) / ("face_" + std::to_string(k));
+    if (!fs::is_directory(stale, ec)) break;
+    fs::remove_all(stale, ec);
+  }
   return true;
 }
 
@@ -280,10 +296,13 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
   std::vector<std::string> photos;
   for (const std::string& input : inputs) {
     if (fs::is_directory(input)) {
-      std::vector<std::string> found;
-      for (const fs::directory_entry& e : fs::directory_iterator(input))
-        if (e.is_regular_file() && is_photo_file(e.path())) found.push_back(e.path().string());
-      std::sort(found.begin(), found.end());
+      // Links that lead nowhere (dangling, loops) and pipes are named and skipped, not fatal.
+      std::vector<std::string> problems;
+      const std::vector<std::string> found = list_folder_files(
+          input, "photo folder", [](const std::string& name) { return is_photo_file(name); },
+          problems);
+      for (const std::string& problem : problems)
+        std::cerr << "skipping " << printable_text(problem) << "\n";
       check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr)");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
@@ -298,16 +317,22 @@ int infer_photos(const std::vector<std::string>& photos, const std::string& out_
                  Decomposer& decomposer, Backend& backend, int crop_size,
                  const PhotoInferOptions& options) {
   FaceDetector detector(options.landmark_model);
-  std::map<std::string, int> seen;
+  const std::vector<std::string> stems = unique_output_names(photos);
   int failed = 0;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
-  for (const std::string& path : photos) {
-    std::string stem = fs::path(path).stem().string();
-    const int k = ++seen[stem];
-    if (k > 1) stem += "_" + std::to_string(k);
-    if (!infer_photo(path, (fs::path(out_dir) / stem).string(), detector, decomposer, backend,
-                     crop_size, options))
-      ++failed;
+  for (size_t index = 0; index < photos.size(); ++index) {
+    const std::string& path = photos[index];
+    bool written = false;
+    try {  // a photo too large for the memory left is skipped like a photo without a face
+      written = infer_photo(path, (fs::path(out_dir) / stems[index]).string(), detector,
+                            decomposer, backend, crop_size, options);
+    } catch (const OutOfMemory& e) {
+      std::cerr << "\nphoto '" << path << "': " << e.what() << "\n";
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nphoto '" << path << "': "
+                << out_of_memory("processing photo '" + path + "'", 0).what() << "\n";
+    }
+    if (!written) ++failed;
     progress.advance();
   }
   progress.finish();
