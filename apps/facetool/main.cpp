@@ -4,6 +4,7 @@
 #include <boost/program_options.hpp>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <new>
 #include <string>
@@ -174,6 +175,11 @@ int main(int argc, char** argv) {
     facetool::exit_now(2);
   } catch (const facetool::Error& e) {
     facetool::print_error(e.what());
+    facetool::exit_now(1);
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder walk or file test met a link loop, a permission or a vanished file: name it.
+    facetool::print_error("cannot access '" + e.path1().string() + "': " + e.code().message() +
+                          " (check the path, its links and permissions)");
     facetool::exit_now(1);
   } catch (const std::bad_alloc&) {
     facetool::print_error(

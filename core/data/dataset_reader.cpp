@@ -27,7 +27,8 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
     : backend_(backend), options_(std::move(options)) {
   check(options_.batch_size > 0, "dataset reader: batch size must be positive, got ",
         options_.batch_size);
-  check(fs::exists(options_.directory), "dataset folder '", options_.directory,
+  std::error_code error;
+  check(fs::exists(options_.directory, error) || error, "dataset folder '", options_.directory,
         "' does not exist; make samples with `facetool synth --out DIR`");
   // A sample that cannot be read (a link to nothing, a link loop, a pipe) is an error: training
   // on fewer samples than the folder shows would be silently wrong.

@@ -53,7 +53,8 @@ struct FaceDetector::Impl {
 };
 
 FaceDetector::FaceDetector(const std::string& landmark_model) : impl_(std::make_unique<Impl>()) {
-  check(std::filesystem::exists(landmark_model), "landmark model '", landmark_model,
+  std::error_code error;
+  check(std::filesystem::exists(landmark_model, error) || error, "landmark model '", landmark_model,
         "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
         "--landmark-model FILE");
   check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes

@@ -95,14 +95,14 @@ std::vector<LightSource> load_light_sources(const std::vector<std::string>& path
   std::vector<fs::path> files;
   for (const std::string& given : paths) {
     const fs::path path(given);
-    if (fs::is_regular_file(path)) {
+    std::error_code error;
+    if (fs::is_regular_file(path, error)) {
       files.push_back(path);
       continue;
     }
-    std::error_code error;
-    if (fs::exists(path, error) && !fs::is_directory(path, error))
+    if ((fs::exists(path, error) || error) && !fs::is_directory(path, error))
       check_regular_input_file(given, kMaxImageFileBytes, "--lights");  // a pipe, a device
-    check(fs::is_directory(path), "light folder '", given,
+    check(fs::is_directory(path, error), "light folder '", given,
           "' does not exist; pass --lights DIR with .hdr/.exr environment maps or .txt SH lights");
     std::vector<std::string> problems;
     const std::vector<std::string> listed = list_folder_files(

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <mutex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include "core/util/atomic_file.h"
@@ -173,7 +174,15 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   const double cpu_start = process_cpu_seconds();
   std::vector<std::thread> pool;
   const int thread_count = static_cast<int>(std::min<size_t>(options.threads, std::max<size_t>(indices.size(), 1)));
-  for (int t = 1; t < thread_count; ++t) pool.emplace_back(worker);
+  // A thread the system cannot give (memory or process limits) is done without: the workers
+  // already started and this thread share the samples.
+  for (int t = 1; t < thread_count; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;
+    }
+  }
   worker();
   for (std::thread& thread : pool) thread.join();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -37,7 +37,8 @@ std::vector<Photo> list_photos(const std::vector<std::string>& inputs, const std
                                std::vector<std::pair<std::string, std::string>>& problems) {
   std::vector<Photo> photos;
   for (const std::string& input : inputs) {
-    if (fs::is_directory(input)) {
+    std::error_code input_error;
+    if (fs::is_directory(input, input_error)) {
       std::vector<Photo> found;
       std::error_code ec;
       fs::recursive_directory_iterator it(input, ec), end;

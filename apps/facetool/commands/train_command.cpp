@@ -137,8 +137,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     check(!fs::exists(checkpoint), "'", out, "' already holds a run (", checkpoint,
           "); pass --resume to continue it or choose another --out");
     // A finished or diverged run without a checkpoint still holds results worth keeping.
+    // (An empty log is a run that failed before its first step: nothing to keep.)
     for (const std::string& earlier : {weights, log_path})
-      check(!fs::exists(earlier) || values.count("overwrite"), "--out '", out,
+      check(!fs::exists(earlier) || fs::file_size(earlier) == 0 || values.count("overwrite"), "--out '", out,
             "' holds another run's results ('", earlier, "') but no checkpoint to resume; ",
             "choose another --out, or pass --overwrite to replace them");
     if (!from.empty()) {
@@ -155,13 +156,15 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
         load_network_weights(*network, file, from);
       }
     }
-    if (writer) std::ofstream(log_path, std::ios::trunc);
   }
+  // The log is opened at the first line, so that a run failing before its first step (a bad
+  // sample, an unknown source) leaves no empty log behind; a fresh run replaces an earlier one.
   std::ofstream log;
-  if (writer) {
-    log.open(log_path, std::ios::app);
+  auto open_log = [&] {
+    if (!writer || log.is_open()) return;
+    log.open(log_path, resume ? std::ios::app : std::ios::trunc);
     check(log.good(), "cannot write '", log_path, "'");
-  }
+  };
 
   g_stop_signal.store(0);
   // SIGHUP (the terminal closed, the session ended) stops like SIGTERM: checkpoint first.
@@ -192,6 +195,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       break;
     }
     images += r.images;
+    open_log();
     nlohmann::json line = {{"step", r.step}, {"total", r.total}, {"images", r.images},
                            {"seconds", r.seconds_total}, {"seconds_data", r.seconds_data}};
     for (const auto& [name, v] : r.terms) line["terms"][name] = v;

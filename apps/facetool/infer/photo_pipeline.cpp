@@ -295,7 +295,8 @@ PhotoInferOptions photo_options_from(const po::variables_map& values) {
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs) {
   std::vector<std::string> photos;
   for (const std::string& input : inputs) {
-    if (fs::is_directory(input)) {
+    std::error_code ec;
+    if (fs::is_directory(input, ec)) {
       // Links that lead nowhere (dangling, loops) and pipes are named and skipped, not fatal.
       std::vector<std::string> problems;
       const std::vector<std::string> found = list_folder_files(
@@ -306,7 +307,7 @@ std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inp
       check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr)");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
-      check(fs::is_regular_file(input), "input photo '", input, "' does not exist or is not a file or folder");
+      check_regular_input_file(input, kMaxImageFileBytes, "input photo");
       photos.push_back(input);
     }
   }
