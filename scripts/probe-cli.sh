@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Runs every bad-input case of tests/cli against the built facetool and prints issue #10's
-# probe figures: cases tried, crashes (death by signal), hangs (time limit), data losses (the
-# output folder changed), unclear messages (the named file or option missing, or raw library
-# text). Full-disk cases need to mount a tmpfs (root); they are skipped with a reason otherwise.
+# Runs every bad-input case of tests/cli against the built facetool and prints the probe figures
+# of issues #10 and #21: cases tried, crashes (death by signal), hangs (time limit), data losses
+# (the output folder changed), unclear messages (the named file or option missing, raw library
+# text, or a raw escape byte). The cases cover every command, non-regular files, outputs over
+# inputs, two runs at once, signals and ulimit -f/-v. Full-disk cases need to mount a tmpfs
+# (root); they are skipped with a reason otherwise.
 #
 # usage: scripts/probe-cli.sh [path/to/facetool]   (default: build/bin/facetool)
 set -euo pipefail

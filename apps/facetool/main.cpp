@@ -1,13 +1,22 @@
 // facetool's entry point: global options, dispatch to a subcommand, and error reporting.
+#include <unistd.h>
+
 #include <boost/program_options.hpp>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
+#include "core/util/terminal_text.h"
 
 #ifndef FACETOOL_VERSION
 #define FACETOOL_VERSION "unknown"
@@ -121,8 +130,19 @@ int run(const std::vector<std::string>& args, std::string& command_name) {
   return command.run(context, po::collect_unrecognized(parsed.options, po::include_positional));
 }
 
+// Messages may quote bytes of a hostile file: control bytes are shown, not sent to the terminal.
 void print_error(const std::string& message) {
-  std::cerr << "facetool: error: " << message << '\n';
+  std::cerr << "facetool: error: " << printable_text(message) << '\n';
+}
+
+// Ends a failed run at once after its message is out: no static destructors or library
+// shutdown hooks, which after an exhausted allocation can wait forever (OpenBLAS's thread pool
+// retrying mmap under ulimit -v). Every file a run writes is complete or removed by then.
+[[noreturn]] void exit_now(int code) {
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  ::_exit(code);
 }
 
 void print_usage_hint(const std::string& command_name) {
@@ -136,22 +156,39 @@ void print_usage_hint(const std::string& command_name) {
 }  // namespace facetool
 
 int main(int argc, char** argv) {
+  // A file over the size limit (ulimit -f) fails its write with EFBIG, reported like a full disk,
+  // instead of killing the process with its temporaries left; interrupted runs remove theirs.
+  std::signal(SIGXFSZ, SIG_IGN);
+  facetool::remove_temporaries_on_fatal_signals();
   std::string command_name;
   try {
-    return facetool::run(std::vector<std::string>(argv + 1, argv + argc), command_name);
+    const int code = facetool::run(std::vector<std::string>(argv + 1, argv + argc), command_name);
+    if (code != 0) facetool::exit_now(code);
+    return 0;
   } catch (const facetool::UsageError& e) {
     facetool::print_error(e.what());
     facetool::print_usage_hint(command_name);
-    return 2;
+    facetool::exit_now(2);
   } catch (const po::error& e) {
     facetool::print_error(e.what());
     facetool::print_usage_hint(command_name);
-    return 2;
+    facetool::exit_now(2);
   } catch (const facetool::Error& e) {
     facetool::print_error(e.what());
-    return 1;
+    facetool::exit_now(1);
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder walk or file test met a link loop, a permission or a vanished file: name it.
+    facetool::print_error("cannot access '" + e.path1().string() + "': " + e.code().message() +
+                          " (check the path, its links and permissions)");
+    facetool::exit_now(1);
+  } catch (const std::bad_alloc&) {
+    facetool::print_error(
+        facetool::out_of_memory("running '" + (command_name.empty() ? std::string("facetool")
+                                                                     : command_name) + "'", 0)
+            .what());
+    facetool::exit_now(1);
   } catch (const std::exception& e) {
     facetool::print_error(std::string("unexpected failure: ") + e.what());
-    return 1;
+    facetool::exit_now(1);
   }
 }

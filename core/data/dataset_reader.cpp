@@ -11,6 +11,7 @@
 #include "core/synth/random.h"
 #include "core/synth/synth_sample.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -26,14 +27,21 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
     : backend_(backend), options_(std::move(options)) {
   check(options_.batch_size > 0, "dataset reader: batch size must be positive, got ",
         options_.batch_size);
-  check(fs::is_directory(options_.directory), "dataset folder '", options_.directory,
+  std::error_code error;
+  check(fs::exists(options_.directory, error) || error, "dataset folder '", options_.directory,
         "' does not exist; make samples with `facetool synth --out DIR`");
-  for (const auto& entry : fs::directory_iterator(options_.directory)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && name.rfind("sample_", 0) == 0 && entry.path().extension() == ".exr")
-      files_.push_back(entry.path().string());
-  }
-  std::sort(files_.begin(), files_.end());
+  // A sample that cannot be read (a link to nothing, a link loop, a pipe) is an error: training
+  // on fewer samples than the folder shows would be silently wrong.
+  std::vector<std::string> problems;
+  files_ = list_folder_files(
+      options_.directory, "dataset folder",
+      [](const std::string& name) {
+        return name.rfind("sample_", 0) == 0 && fs::path(name).extension() == ".exr";
+      },
+      problems);
+  check(problems.empty(), "dataset sample ", problems.empty() ? "" : problems[0],
+        problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) + " more)" : "",
+        "; fix or remove it");
   check(!files_.empty(), "dataset folder '", options_.directory,
         "' holds no sample_*.exr files; make them with `facetool synth --out DIR`");
   check(options_.start_batch >= 0, "dataset reader: start batch must be >= 0");

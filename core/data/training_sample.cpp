@@ -1,7 +1,10 @@
 // Reading synthetic and real (possibly pseudo-labelled) sample files into TrainingSample planes.
 #include "core/data/training_sample.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "core/io/exr_io.h"
 #include "core/synth/synth_sample.h"
@@ -56,12 +59,40 @@ TrainingSample read_real(const LayeredImage& image, const std::string& path, boo
   return s;
 }
 
+// Refuses a NaN or infinite value of `values` (planes of width x height) naming the sample, the
+// part, the plane and the pixel: it would otherwise surface steps later as a divergence or a
+// renderer error far from its cause.
+void check_finite(const std::vector<float>& values, const std::string& part, int width,
+                  int height, const std::string& path) {
+  const size_t w = static_cast<size_t>(std::max(1, width));
+  const size_t plane = w * static_cast<size_t>(std::max(1, height));
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i])) {
+      const size_t p = i % plane;
+      fail("sample '", path, "' holds a NaN or infinite ", part, " value (channel ", i / plane,
+           ", pixel (", p % w, ", ", p / w, ")); regenerate or remove the file");
+    }
+}
+
+TrainingSample checked(TrainingSample s, const std::string& path) {
+  check_finite(s.image, "image", s.width, s.height, path);
+  check_finite(s.mask, "mask", s.width, s.height, path);
+  check_finite(s.albedo, "albedo", s.width, s.height, path);
+  check_finite(s.normal, "normal", s.width, s.height, path);
+  check_finite(s.visibility, "visibility", s.width, s.height, path);
+  for (size_t k = 0; k < s.light.size(); ++k)
+    check(std::isfinite(s.light[k]), "sample '", path, "' holds a NaN or infinite light ",
+          "coefficient (number ", k, "); regenerate or remove the file");
+  return s;
+}
+
 }  // namespace
 
 TrainingSample read_training_sample(const std::string& path, bool need_labels) {
   const LayeredImage header = read_exr_header(path, kPrefix);
   const std::string* version = header.find_metadata(std::string(kPrefix) + "generator_version");
-  if (version && *version == kRealSampleVersion) return read_real(read_exr(path, kPrefix), path, need_labels);
+  if (version && *version == kRealSampleVersion)
+    return checked(read_real(read_exr(path, kPrefix), path, need_labels), path);
   const SynthSample synth = read_synth_sample(path);
   TrainingSample s;
   s.width = synth.width;
@@ -73,7 +104,7 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels) {
   s.visibility = synth.visibility;
   for (double v : synth.light) s.light.push_back(static_cast<float>(v));
   s.labelled = true;
-  return s;
+  return checked(std::move(s), path);
 }
 
 void read_training_sample_size(const std::string& path, int& width, int& height) {

@@ -17,6 +17,7 @@
 #include "core/face/detection_bands.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 
@@ -78,9 +79,11 @@ struct FaceDetector::Impl {
 
 FaceDetector::FaceDetector(const std::string& landmark_model, const std::string& cnn_model)
     : impl_(std::make_unique<Impl>()) {
-  check(std::filesystem::is_regular_file(landmark_model), "landmark model '", landmark_model,
+  std::error_code error;
+  check(std::filesystem::exists(landmark_model, error) || error, "landmark model '", landmark_model,
         "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
         "--landmark-model FILE");
+  check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
   try {
     dlib::deserialize(landmark_model) >> impl_->predictor;
   } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 
@@ -41,8 +42,12 @@ RgbImage apply_exif_orientation(const RgbImage& in, int orientation) {
 RgbImage read_photo(const std::string& path) {
   int orientation = 1;
   bool is_float = false;
+  // A pipe or device would block OpenImageIO's open below; a folder is not "not an image".
+  check_regular_input_file(path, kMaxImageFileBytes, "photo");
   {
-    auto input = OIIO::ImageInput::open(path);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto input = OIIO::ImageInput::open(path, &config);
     if (!input)
       fail("cannot read photo '", path, "': ", OIIO::geterror(),
            " (check that the file exists and is an image OpenImageIO can read)");

@@ -24,11 +24,20 @@ struct RgbImage {
 RgbImage rgb_from_planar(const float* planar, int width, int height);
 std::vector<float> planar_from_rgb(const RgbImage& image);
 
-// Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped.
+// Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped (the
+// colours are taken as stored, not multiplied by alpha). A truncated JPEG is refused, and so is
+// a header claiming more pixels than the file can hold; the pixel memory is checked against what
+// the machine has (memory_budget.h: "out of memory while reading image ...").
 // Values are as stored: linear radiance for HDR/EXR; for 8-bit formats (sRGB-encoded) pass
 // `decode_srgb` to convert them to linear. Throws facetool::Error naming the file, also for
 // a NaN or infinite value (naming the pixel) and for a header beyond core/util/image_limits.h.
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
+
+// Refuses (facetool::Error naming the file) a PNG or JPEG header that claims more pixels than a
+// file of `file_bytes` bytes can hold: a cut-off or damaged file, caught before its pixels are
+// allocated. Other formats (EXR, HDR, ...) pass.
+void check_image_header_plausible(const std::string& path, const std::string& format,
+                                  int64_t width, int64_t height, uint64_t file_bytes);
 
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);

@@ -3,6 +3,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <vector>
 
 #include "core/util/error.h"
@@ -33,8 +34,14 @@ EnvironmentMap read_environment_map(const std::string& path) {
   map.height = spec.height;
   map.rgb.resize(pixels * 3);
   for (size_t p = 0; p < pixels; ++p)
-    for (int c = 0; c < 3; ++c)
-      map.rgb[p * 3 + c] = data[p * channels + (channels == 1 ? 0 : c)];
+    for (int c = 0; c < 3; ++c) {
+      const float value = data[p * channels + (channels == 1 ? 0 : c)];
+      check(std::isfinite(value), "environment map '", path, "' holds a NaN or infinite value ",
+            "at pixel (", p % static_cast<size_t>(spec.width), ", ",
+            p / static_cast<size_t>(spec.width), ") channel ", c,
+            "; fix the file (e.g. clamp it in an image editor) or use another map");
+      map.rgb[p * 3 + c] = value;
+    }
   return map;
 }
 

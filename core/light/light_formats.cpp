@@ -18,6 +18,7 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/math_constants.h"
+#include "core/util/json_checks.h"
 
 namespace facetool::light {
 namespace {
@@ -263,6 +264,9 @@ LightFile parse_light(const std::string& text, Format f, const std::string& path
            reason == std::string::npos ? what : what.substr(reason + 2),
            "; fix the file or write it again with facetool light convert");
     }
+    const std::string duplicate = first_duplicate_json_key(text);
+    check(duplicate.empty(), "light file '", path, "' gives the key \"", duplicate,
+          "\" twice in one object; keep one of them");
     // Every member is checked for its type before it is read: nlohmann's own type errors would
     // not name the file.
     check(j.is_object() && j.contains("format") && j["format"].is_string() &&

@@ -47,6 +47,13 @@ void load_tensor(const SafeTensors& file, const std::string& path, const std::st
     check(std::isfinite(values[k]), "weights file '", path, "': tensor '", name, "' holds a ",
           std::isnan(values[k]) ? "NaN" : "infinite", " value at element ", k,
           " (a diverged or damaged training run: use an earlier checkpoint)");
+  // A variance is never negative: batch norm would take the square root of a negative number
+  // and every output would be NaN.
+  const bool variance = name.size() >= 4 && name.compare(name.size() - 4, 4, "_var") == 0;
+  for (size_t k = 0; variance && k < values.size(); ++k)
+    check(values[k] >= 0.0f, "weights file '", path, "': tensor '", name, "' holds the ",
+          "negative variance ", values[k], " at element ", k,
+          " (a damaged file: use an earlier copy)");
   target.copy_from_host(values);
 }
 

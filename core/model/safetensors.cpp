@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <new>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
+#include "core/util/memory_budget.h"
 
 namespace facetool {
 namespace {
@@ -38,11 +40,45 @@ uint64_t read_u64_le(const uint8_t* p) {
 }  // namespace
 
 SafeTensors SafeTensors::read_file(const std::string& path) {
-  const std::string bytes = read_regular_input_file(path, kMaxWeightsFileBytes, "weights file");
-  return parse(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
+  // The header is read and checked first: a file whose header does not account for its size
+  // (a sparse or padded file, a truncated one) is refused before its data is read, and the data
+  // is read once, straight into place.
+  const uint64_t size = check_regular_input_file(path, kMaxWeightsFileBytes, "weights file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("weights file '", path, "' cannot be read: ", std::strerror(errno));
+  std::vector<uint8_t> prefix(std::min<uint64_t>(size, 8));
+  in.read(reinterpret_cast<char*>(prefix.data()), static_cast<std::streamsize>(prefix.size()));
+  if (prefix.size() == 8) {
+    const uint64_t header_len = read_u64_le(prefix.data());
+    if (header_len <= kMaxHeaderBytes && header_len <= size - 8) {
+      prefix.resize(8 + header_len);
+      in.read(reinterpret_cast<char*>(prefix.data()) + 8, static_cast<std::streamsize>(header_len));
+    }
+  }
+  if (!in) fail("cannot read weights file '", path, "': it changed or could not be read completely");
+  SafeTensors st = parse_header(prefix.data(), size, path);
+  const uint64_t data_size = size - prefix.size();
+  const std::string what = "reading weights file '" + path + "'";
+  check_memory_budget(data_size, what);
+  try {
+    st.data_.resize(data_size);
+  } catch (const std::bad_alloc&) {
+    throw out_of_memory(what, data_size);
+  }
+  in.read(reinterpret_cast<char*>(st.data_.data()), static_cast<std::streamsize>(data_size));
+  if (static_cast<uint64_t>(in.gcount()) != data_size)
+    fail("cannot read weights file '", path, "': it changed or could not be read completely");
+  return st;
 }
 
 SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::string& what) {
+  SafeTensors st = parse_header(bytes, size, what);
+  const uint64_t header_len = read_u64_le(bytes);
+  st.data_.assign(bytes + 8 + header_len, bytes + size);
+  return st;
+}
+
+SafeTensors SafeTensors::parse_header(const uint8_t* bytes, uint64_t size, const std::string& what) {
   auto bad = [&](const auto&... parts) { fail("'", what, "' is not a valid safetensors file: ", parts...); };
   if (size < 8) bad("it holds ", size, " bytes, fewer than the 8-byte header length");
   const uint64_t header_len = read_u64_le(bytes);
@@ -137,7 +173,6 @@ SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::str
   if (covered != data_size)
     bad(data_size - covered, " trailing bytes after the last tensor's data (", data_size,
         " data bytes, ", covered, " used)");
-  st.data_.assign(bytes + 8 + header_len, bytes + size);
   return st;
 }
 

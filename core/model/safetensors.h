@@ -36,6 +36,10 @@ class SafeTensors {
   std::vector<float> floats(const std::string& name) const;
 
  private:
+  // Checks the header at `bytes` (the 8-byte length and the JSON; the data need not follow)
+  // against a file of `size` bytes: every check of parse, data not read.
+  static SafeTensors parse_header(const uint8_t* bytes, uint64_t size, const std::string& what);
+
   std::string what_;
   std::map<std::string, std::string> metadata_;
   std::map<std::string, Entry> entries_;

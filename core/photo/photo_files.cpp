@@ -19,6 +19,7 @@
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
+#include "core/util/memory_budget.h"
 #include "core/util/progress_bar.h"
 
 namespace fs = std::filesystem;
@@ -126,23 +127,19 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     sheet_rows.insert(sheet_rows.begin(), annotated);
     write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
   }
+  // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
+  // replaced by this run's, which has fewer faces (faces.json lists them).
+  for (int k = n;; ++k) {
+    const fs::path stale = fs::path(folder) / ("face_" + std::to_string(k));
+    if (!fs::is_directory(stale, ec)) break;
+    fs::remove_all(stale, ec);
+  }
   if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
     std::vector<DetectedFace> faces;
     for (const FaceCrop& c : photo.crops) faces.push_back(c.face);
     const std::vector<DetectedFace> ordered = order_faces_by_size(faces);
     options.with_fit->write(at("fit"), photo.photo, ordered, options.with_fit->fit(photo.photo, ordered), photo.path);
   }
-}
-
-std::vector<std::string> unique_stems(const std::vector<std::string>& files) {
-  std::map<std::string, int> seen;
-  std::vector<std::string> stems;
-  for (const std::string& f : files) {
-    std::string stem = fs::path(f).stem().string();
-    const int n = ++seen[stem];
-    stems.push_back(n == 1 ? stem : stem + "_" + std::to_string(n));
-  }
-  return stems;
 }
 
 int infer_photos(const std::vector<std::string>& photos, const std::vector<std::string>& folders,
@@ -152,29 +149,46 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
   DetectionSummary summary;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
   for (size_t k = 0; k < photos.size(); ++k) {
+    const std::string& path = photos[k];
+    // A photo that cannot be read, has no face or is too large for the memory left is reported
+    // and skipped; a failure to write its results (a full disk) ends the run.
     DecomposedPhoto photo;
     try {
       RgbImage image;
       try {
-        image = read_photo(photos[k]);
+        image = read_photo(path);
+      } catch (const OutOfMemory&) {
+        summary.add(path, 0, "out of memory");
+        throw;
       } catch (const Error& e) {
-        summary.add(photos[k], 0, "unreadable");
-        fail("photo '", photos[k], "': ", e.what());
+        summary.add(path, 0, "unreadable");
+        fail("photo '", path, "': ", e.what());
       }
       try {
-        photo = decomposer.decompose(std::move(image), photos[k]);
+        photo = decomposer.decompose(std::move(image), path);
       } catch (const NoFaceError& e) {
-        summary.add(photos[k], 0, e.reason());
+        summary.add(path, 0, e.reason());
         throw;
       }
-      summary.add(photos[k], static_cast<int>(photo.crops.size()));
+      summary.add(path, static_cast<int>(photo.crops.size()));
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nphoto '" << path << "': " << out_of_memory("processing photo '" + path + "'", 0).what() << "\n";
+      ++failed;
+      progress.advance();
+      continue;
     } catch (const Error& e) {
       std::cerr << "\n" << e.what() << "\n";
       ++failed;
       progress.advance();
       continue;
     }
-    write_photo_files((fs::path(out_dir) / folders[k]).string(), photo, options);
+    try {
+      write_photo_files((fs::path(out_dir) / folders[k]).string(), photo, options);
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nphoto '" << path << "': "
+                << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
+      ++failed;
+    }
     progress.advance();
   }
   progress.finish();

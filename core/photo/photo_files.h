@@ -15,9 +15,6 @@ namespace facetool {
 // alpha = face coverage) and, with options.contact_sheet, contact_sheet.png.
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options);
 
-// Output folder names for a list of inputs: the file's stem, made unique when two inputs share
-// one ("a", "a_2", ...). Computed over the whole list, so a shard names its photos as one run does.
-std::vector<std::string> unique_stems(const std::vector<std::string>& files);
 
 // Runs every photo `photos[k]` into <out_dir>/<folders[k]>/; a photo that cannot be read or has
 // no face gets a line on stderr and the run goes on. Returns the number of such photos.

@@ -8,6 +8,9 @@
 #include "core/face/frame_rotation.h"
 #include "core/face/photo_reader.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/memory_budget.h"
+#include "core/util/terminal_text.h"
 
 namespace fs = std::filesystem;
 
@@ -67,6 +70,10 @@ DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& so
     throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason,
                       std::move(reason));
   }
+  // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
+  check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
+                      "pasting the faces back into " + (source.empty() ? std::string("the photo") : "photo '" + source + "'") +
+                          " of " + std::to_string(photo.width) + "x" + std::to_string(photo.height) + " pixels");
   std::vector<float> inputs;
   for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
@@ -137,15 +144,19 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs) {
   std::vector<std::string> photos;
   for (const std::string& input : inputs) {
-    if (fs::is_directory(input)) {
-      std::vector<std::string> found;
-      for (const fs::directory_entry& e : fs::directory_iterator(input))
-        if (e.is_regular_file() && is_photo_file(e.path())) found.push_back(e.path().string());
-      std::sort(found.begin(), found.end());
+    std::error_code ec;
+    if (fs::is_directory(input, ec)) {
+      // Links that lead nowhere (dangling, loops) and pipes are named and skipped, not fatal.
+      std::vector<std::string> problems;
+      const std::vector<std::string> found = list_folder_files(
+          input, "photo folder", [](const std::string& name) { return is_photo_file(name); },
+          problems);
+      for (const std::string& problem : problems)
+        std::cerr << "skipping " << printable_text(problem) << "\n";
       check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr, pgm, ppm)");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
-      check(fs::is_regular_file(input), "input photo '", input, "' does not exist or is not a file or folder");
+      check_regular_input_file(input, kMaxImageFileBytes, "input photo");
       photos.push_back(input);
     }
   }

@@ -14,6 +14,7 @@
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -94,16 +95,21 @@ std::vector<LightSource> load_light_sources(const std::vector<std::string>& path
   std::vector<fs::path> files;
   for (const std::string& given : paths) {
     const fs::path path(given);
-    if (fs::is_regular_file(path)) {
+    std::error_code error;
+    if (fs::is_regular_file(path, error)) {
       files.push_back(path);
       continue;
     }
-    check(fs::is_directory(path), "light folder '", given,
+    if ((fs::exists(path, error) || error) && !fs::is_directory(path, error))
+      check_regular_input_file(given, kMaxImageFileBytes, "--lights");  // a pipe, a device
+    check(fs::is_directory(path, error), "light folder '", given,
           "' does not exist; pass --lights DIR with .hdr/.exr environment maps or .txt SH lights");
-    std::vector<fs::path> found;
-    for (const auto& entry : fs::directory_iterator(path))
-      if (entry.is_regular_file() && is_light_file(entry.path())) found.push_back(entry.path());
-    std::sort(found.begin(), found.end());
+    std::vector<std::string> problems;
+    const std::vector<std::string> listed = list_folder_files(
+        given, "light folder", [](const std::string& name) { return is_light_file(name); },
+        problems);
+    check(problems.empty(), "light ", problems.empty() ? "" : problems[0], "; fix or remove it");
+    std::vector<fs::path> found(listed.begin(), listed.end());
     files.insert(files.end(), found.begin(), found.end());
   }
   check(!files.empty(), "no light files found",

@@ -11,11 +11,13 @@
 #include <filesystem>
 #include <mutex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include "core/util/atomic_file.h"
 #include "core/synth/contact_sheet.h"
 #include "core/util/error.h"
+#include "core/util/folder_lock.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -63,6 +65,10 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   fs::create_directories(options.output_dir, error);
   check(fs::is_directory(options.output_dir), "cannot create output folder '",
         options.output_dir, "': ", error.message());
+  // One run per folder; the shards of one sharded run write disjoint samples and share it.
+  const FolderLock lock(options.output_dir, "--out",
+                        options.shard_count > 1 ? FolderLock::Mode::kShared
+                                                : FolderLock::Mode::kExclusive);
   remove_stale_temporary_files(options.output_dir);
 
   std::vector<int64_t> indices;
@@ -151,7 +157,15 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   const double cpu_start = process_cpu_seconds();
   std::vector<std::thread> pool;
   const int thread_count = static_cast<int>(std::min<size_t>(options.threads, std::max<size_t>(indices.size(), 1)));
-  for (int t = 1; t < thread_count; ++t) pool.emplace_back(worker);
+  // A thread the system cannot give (memory or process limits) is done without: the workers
+  // already started and this thread share the samples.
+  for (int t = 1; t < thread_count; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;
+    }
+  }
   worker();
   for (std::thread& thread : pool) thread.join();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,6 +1,8 @@
 // Checkpoint files: one safetensors file holding network, optimiser and run position.
 #include "core/train/checkpoint.h"
 
+#include <cmath>
+
 #include "core/model/safetensors.h"
 #include "core/util/error.h"
 
@@ -22,7 +24,13 @@ void restore(const SafeTensors& file, const std::string& path, const std::string
   const SafeTensors::Entry& e = file.entry(name);
   check(e.shape == dims(into.shape()), "checkpoint '", path, "': tensor '", name,
         "' has another shape than the network's ", into.shape().str());
-  into.copy_from_host(file.floats(name));
+  const std::vector<float> values = file.floats(name);
+  const bool variance = name.size() >= 4 && name.compare(name.size() - 4, 4, "_var") == 0;
+  for (size_t k = 0; k < values.size(); ++k)
+    check(std::isfinite(values[k]) && (!variance || values[k] >= 0.0f), "checkpoint '", path,
+          "': tensor '", name, "' holds ", std::isfinite(values[k]) ? "a negative variance" :
+          "a NaN or infinite value", " at element ", k, " (a damaged file: use an earlier copy)");
+  into.copy_from_host(values);
 }
 
 const std::string& meta(const SafeTensors& file, const std::string& path, const char* key) {
@@ -51,7 +59,7 @@ CheckpointState state_of(const SafeTensors& file, const std::string& path) {
         meta(file, path, "format_version"), "; this facetool reads version 1");
   CheckpointState s;
   s.step = meta_int(file, path, "step");
-  s.seed = static_cast<uint64_t>(std::stoull(meta(file, path, "seed")));
+  s.seed = static_cast<uint64_t>(meta_int(file, path, "seed"));
   s.config_name = meta(file, path, "config");
   s.architecture = meta(file, path, "architecture");
   s.network.width = static_cast<int>(meta_int(file, path, "width"));

@@ -176,11 +176,28 @@ void Trainer::restore(const std::string& checkpoint_path) {
         s.network.width, " and input ", s.network.input_size, ", but '", config_.path,
         "' asks for a ", config_.network, " of width ", config_.width, " and input ",
         config_.input_size);
+  // A damaged step count would be believed: a negative one rewrites the log to nothing, a huge
+  // one ends the run at once claiming it trained.
+  check(s.step >= 0 && s.step <= config_.steps, "checkpoint '", checkpoint_path,
+        "' says it is at step ", s.step, ", outside 0 .. ", config_.steps, " (the steps of '",
+        config_.path, "'); ", s.step > config_.steps && s.step <= (int64_t{1} << 40)
+            ? "pass --steps N with N >= that step to train further"
+            : "the file is damaged: use an earlier copy or start the run afresh");
   step_ = load_checkpoint(checkpoint_path, *network_, *optimizer_).step;
   for (auto& source : sources_) source->reader.reset();
 }
 
 void Trainer::save(const std::string& checkpoint_path) const {
+  // A checkpoint is never written with NaN or infinite weights: resuming it could not recover.
+  auto check_finite = [&](const std::string& name, const Tensor& t) {
+    for (const float v : t.to_host())
+      if (!std::isfinite(v))
+        throw TrainingDiverged("training diverged at step " + std::to_string(step_) +
+                               ": the network's '" + name + "' holds a NaN or infinite value; " +
+                               "no checkpoint was written and the last one is kept");
+  };
+  for (const auto& [name, p] : network_->parameters()) check_finite(name, p.value());
+  for (const auto& [name, t] : network_->buffers()) check_finite(name, t);
   CheckpointState s;
   s.step = step_;
   s.seed = config_.seed;
@@ -224,6 +241,15 @@ StepRecord Trainer::step() {
       image_share = local[1] / counts[1];
     }
     const NetworkOutputs out = network_->forward(ag::Variable(batch.image), true);
+    // The light feeds the renderer, which would refuse it with a message naming neither the
+    // step nor the cause: a non-finite light is divergence (the batch itself was checked when
+    // it was read).
+    for (const float v : out.light.value().to_host())
+      if (!std::isfinite(v))
+        throw TrainingDiverged("training diverged at step " + std::to_string(record.step) +
+                               ": the network's light output for source '" +
+                               source->config->name + "' is not finite (the weights hold NaN " +
+                               "or infinite values); the last checkpoint is kept");
     const LossTargets targets = targets_of(batch, *source->config);
     std::vector<ag::Variable> values;
     std::vector<double> shares, totals;

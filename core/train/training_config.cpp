@@ -3,17 +3,20 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/json_checks.h"
 
 namespace facetool {
 namespace {
 
 using nlohmann::json;
+
+constexpr double kMaxTermWeight = 1e6;
 
 struct Reader {
   const std::string& path;
@@ -71,6 +74,9 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   } catch (const json::exception& e) {
     throw Error("training config '" + path + "' is not valid JSON: " + e.what());
   }
+  const std::string duplicate = first_duplicate_json_key(json_text);
+  check(duplicate.empty(), "training config '", path, "' gives the key \"", duplicate,
+        "\" twice in one object (only one would count); keep one of them");
   Reader r{path};
   TrainingConfig c;
   c.path = path;
@@ -93,7 +99,8 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   c.learning_rate = r.number(o, "optimizer", "learning_rate", c.learning_rate, false, 0.0, 10.0);
   c.beta1 = r.number(o, "optimizer", "beta1", c.beta1, false, 0.0, 0.999999);
   c.beta2 = r.number(o, "optimizer", "beta2", c.beta2, false, 0.0, 0.999999999);
-  c.epsilon = r.number(o, "optimizer", "epsilon", c.epsilon, false, 0.0, 1.0);
+  // Adam divides by sqrt(v) + epsilon: 0 gives 0/0 = NaN for a parameter whose gradient is 0.
+  c.epsilon = r.number(o, "optimizer", "epsilon", c.epsilon, false, 1e-12, 1.0);
   c.steps = r.integer(root, "the file", "steps", 0, true, 1, int64_t{1} << 40);
   c.checkpoint_every =
       r.integer(root, "the file", "checkpoint_every", c.checkpoint_every, false, 1, int64_t{1} << 40);
@@ -134,8 +141,10 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
       check(it.value().is_number(), "training config '", path, "': ", where, ".terms.", it.key(),
             " needs a numeric weight (e.g. \"", it.key(), "\": 0.2)");
       const double w = it.value().get<double>();
-      check(std::isfinite(w) && w >= 0.0, "training config '", path, "': ", where, ".terms.",
-            it.key(), " has weight ", w, "; weights must be finite and >= 0");
+      // A weight beyond 1e6 overflows float losses and gradients (1e308 is infinite in float).
+      check(std::isfinite(w) && w >= 0.0 && w <= kMaxTermWeight, "training config '", path,
+            "': ", where, ".terms.", it.key(), " has weight ", w, "; weights must be in [0, ",
+            kMaxTermWeight, "]");
       d.terms.push_back({it.key(), w});
     }
     c.sources.push_back(std::move(d));
@@ -144,11 +153,8 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
 }
 
 TrainingConfig read_training_config(const std::string& path) {
-  std::ifstream in(path);
-  check(in.good(), "cannot open training config '", path, "'; see configs/ for examples");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_training_config(text.str(), path);
+  return parse_training_config(read_regular_input_file(path, kMaxTextFileBytes, "training config"),
+                                path);
 }
 
 void check_terms(const TrainingConfig& config, const std::vector<LossTermInfo>& available) {

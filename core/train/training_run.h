@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "core/distributed/communicator.h"
 #include "core/train/trainer.h"
 #include "core/train/training_config.h"
+#include "core/util/folder_lock.h"
 
 namespace facetool {
 
@@ -21,6 +23,7 @@ struct TrainingRunOptions {
   std::string from;                // weights file or checkpoint to start from (not with resume)
   std::string config_source;       // the configuration's file, named in messages
   double time_limit_seconds = 0;   // stop after this much wall time (0: none)
+  bool overwrite = false;          // a fresh run may replace another run's weights and log without a checkpoint
 };
 
 enum class RunOutcome {
@@ -33,8 +36,10 @@ enum class RunOutcome {
 class TrainingRun {
  public:
   // Prepares the folder: with options.resume restores its checkpoint (and trims log.jsonl to the
-  // restored step), else refuses a folder that holds a run, creates it and loads options.from.
-  // Only rank 0 of `comm` writes files. The trainer must outlive the run.
+  // restored step), else refuses a folder that holds a run (a checkpoint; or weights or a log,
+  // unless options.overwrite), creates it and loads options.from. Rank 0, the only one that
+  // writes files, holds the folder's lock (folder_lock.h) for the run's lifetime: a second run
+  // into the folder is refused. The trainer must outlive the run.
   TrainingRun(Trainer& trainer, const TrainingConfig& config, Communicator& comm,
               const TrainingRunOptions& options);
 
@@ -59,7 +64,10 @@ class TrainingRun {
   const std::string& log_path() const { return log_path_; }
   const std::string& curve_path() const { return curve_; }
 
-  // Writes the checkpoint, the weights and the loss curve (rank 0).
+  // save_all(), then `outcome`; RunOutcome::Diverged when the weights are not finite.
+  RunOutcome save_at_end(RunOutcome outcome);
+  // Writes the checkpoint, the weights and the loss curve (rank 0); throws TrainingDiverged, writing
+  // nothing, when the weights are not finite.
   void save_all();
 
  private:
@@ -73,6 +81,7 @@ class TrainingRun {
   std::string divergence_;
   std::string checkpoint_, weights_, log_path_, curve_;
   std::vector<std::pair<double, double>> points_;  // (step, total) for the loss curve
+  std::unique_ptr<FolderLock> lock_;               // rank 0's
 };
 
 // Loads `path` into `network` to start a run from it: a checkpoint's network tensors, or a weights

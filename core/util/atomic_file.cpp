@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <system_error>
 
 #include "core/util/error.h"
@@ -19,6 +20,63 @@ namespace fs = std::filesystem;
 
 namespace {
 const char kMarker[] = ".tmp-";
+
+// The registry of temporaries being written: fixed slots, so that a signal handler can read it
+// without allocating or locking. A slot is 0 (free), 1 (being filled) or 2 (holds a path).
+constexpr int kSlots = 512;
+constexpr size_t kPathBytes = 4096;
+char g_paths[kSlots][kPathBytes];
+std::atomic<int> g_slot_state[kSlots];
+
+// Registers `path` for removal on a fatal signal; the slot number, or -1 when all are taken.
+int register_temporary(const std::string& path) {
+  if (path.size() >= kPathBytes) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (g_slot_state[i].compare_exchange_strong(expected, 1)) {
+      std::memcpy(g_paths[i], path.c_str(), path.size() + 1);
+      g_slot_state[i].store(2, std::memory_order_release);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_slot_state[slot].store(0, std::memory_order_release);
+}
+
+// Registers a temporary for its lifetime.
+class Registered {
+ public:
+  explicit Registered(const std::string& path) : slot_(register_temporary(path)) {}
+  ~Registered() { unregister_temporary(slot_); }
+  Registered(const Registered&) = delete;
+  Registered& operator=(const Registered&) = delete;
+
+ private:
+  int slot_;
+};
+
+extern "C" void remove_temporaries_and_die(int signal) {
+  remove_registered_temporaries();
+  ::signal(signal, SIG_DFL);
+  ::raise(signal);
+}
+}  // namespace
+
+void remove_registered_temporaries() noexcept {
+  for (int i = 0; i < kSlots; ++i)
+    if (g_slot_state[i].load(std::memory_order_acquire) == 2) ::unlink(g_paths[i]);
+}
+
+void remove_temporaries_on_fatal_signals() {
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_die;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(signal, &action, nullptr);
+  }
 }
 
 std::string temporary_path_for(const std::string& path) {
@@ -45,6 +103,7 @@ void commit_temporary(const std::string& temporary, const std::string& path) {
 void write_atomically(const std::string& final_path,
                       const std::function<void(const std::string& temporary)>& write) {
   const std::string temporary = temporary_path_for(final_path);
+  const Registered registered(temporary);
   try {
     write(temporary);
   } catch (...) {
@@ -66,6 +125,9 @@ std::string write_failure_advice(int error) {
     case ENOENT:
     case ENOTDIR:
       return " (the folder does not exist: create it first)";
+    case EFBIG:
+      return " (the file-size limit is reached: raise it with ulimit -f, or free the quota; "
+             "existing files were kept)";
     default:
       return " (existing files were kept)";
   }
@@ -108,9 +170,11 @@ void write_file_atomically(const std::string& path, const void* data, size_t siz
 
 void write_files_atomically(const std::vector<FileContents>& files) {
   std::vector<std::string> temporaries;
+  std::vector<std::unique_ptr<Registered>> registered;
   try {
     for (const FileContents& file : files) {
       temporaries.push_back(temporary_path_for(file.path));
+      registered.push_back(std::make_unique<Registered>(temporaries.back()));
       write_checked(temporaries.back(), file.path, file.bytes.data(), file.bytes.size());
     }
   } catch (...) {

@@ -35,6 +35,14 @@ void write_text_atomically(const std::string& path, const std::string& text);
 // What to do after a write failed with errno `error` (" (the disk is full: ...)").
 std::string write_failure_advice(int error);
 
+// Temporaries being written are registered until they are renamed or removed; a fatal signal
+// (SIGINT, SIGTERM, SIGHUP, SIGQUIT) removes them before the process ends, so no "*.tmp-PID-N"
+// survives an interrupted run. Installs those handlers (facetool's main does, once); a command
+// that handles a signal itself (train) replaces the handler for that signal.
+void remove_temporaries_on_fatal_signals();
+// Removes every registered temporary (async-signal-safe: unlink only).
+void remove_registered_temporaries() noexcept;
+
 // True for names temporary_path_for produces.
 bool is_temporary_file_name(const std::string& file_name);
 // Removes leftover temporaries of interrupted runs in `directory` (those whose process is gone;

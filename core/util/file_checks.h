@@ -1,4 +1,4 @@
-// Input files read whole: only regular files of a sane size, so a device, a folder or a huge
+// Input files and folders: only regular files of a sane size, so a device, a folder or a huge
 // file gives a clear message instead of an endless read or an out-of-memory.
 #pragma once
 
@@ -23,5 +23,26 @@ uint64_t check_regular_input_file(const std::string& path, uint64_t max_bytes,
 // check_regular_input_file, then the whole content; a short read is an error too.
 std::string read_regular_input_file(const std::string& path, uint64_t max_bytes,
                                     const std::string& what);
+
+// Throws facetool::Error unless `path` names an existing folder: "does not exist", "is a file,
+// not a folder" or the OS reason, naming `what` (e.g. "--data") and the path.
+void check_input_folder(const std::string& path, const std::string& what);
+
+// The regular files of folder `folder` (not recursive) whose names `keep` accepts, sorted.
+// Entries that are meant (keep accepts the name) but cannot be read as a regular file, such as a
+// dangling symbolic link, a symbolic link loop, a pipe or a device, are not returned: each adds a
+// line to `problems` naming the entry and why (the caller skips it with a warning or refuses).
+std::vector<std::string> list_folder_files(const std::string& folder, const std::string& what,
+                                           bool (*keep)(const std::string& file_name),
+                                           std::vector<std::string>& problems);
+
+// True when `a` and `b` both exist and are the same file (same device and inode: hard links,
+// symbolic links and different spellings of one path count as the same).
+bool same_existing_file(const std::string& a, const std::string& b);
+
+// Throws facetool::Error when output file `output` (given with option `option`) is one of
+// `inputs`: writing it would replace an input of the same run.
+void check_output_is_not_an_input(const std::string& output, const std::string& option,
+                                  const std::vector<std::string>& inputs);
 
 }  // namespace facetool

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -55,8 +56,18 @@ struct Job {
 
 class ThreadPool {
  public:
-  explicit ThreadPool(int threads) : threads_(threads) {
-    for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+  // A thread the system cannot give (ulimit -v, a process limit) is done without: the pool runs
+  // with the threads it got instead of ending the process (a joinable thread left in workers_ by
+  // an exception would call std::terminate).
+  explicit ThreadPool(int threads) : threads_(1) {
+    for (int i = 1; i < threads; ++i) {
+      try {
+        workers_.emplace_back([this, i] { worker_loop(i); });
+      } catch (const std::system_error&) {
+        break;
+      }
+      threads_ = i + 1;
+    }
   }
   ~ThreadPool() {
     {

@@ -10,6 +10,11 @@
 #     of the raw library phrases below (unclear message),
 #   - no file in its output folder changed, appeared or was truncated (data loss): the folder is
 #     filled with the outputs of good runs first and hashed before and after.
+# Round two (issue 21) adds every other command (train, eval, pseudo-label, prepare-real, relight,
+# bench photo), non-regular files (pipes, dangling links, link loops), outputs over inputs and over
+# other runs, two runs into one folder, signals, the file-size and memory limits (ulimit -f/-v),
+# and silently wrong inputs (duplicate JSON keys, damaged checkpoint steps, missing shards, escape
+# sequences in files). A message must also never carry a raw escape byte from a file.
 # Cases are named GROUP/NAME; --group keeps those whose name matches REGEX.
 # --report prints the figures of issue #10's probe (cases, crashes, hangs, data losses, unclear
 # messages). Exit status: 0 when every case passed.
@@ -35,6 +40,8 @@ FX=$WORK/fixtures
 TIME_LIMIT=${FACETOOL_CASE_TIMEOUT:-30}
 # Only facetool's own plugins, found beside the executable.
 export FACETOOL_PLUGIN_PATH=
+# Shell commands run before facetool in a case (ulimit ...); empty for most.
+LIMITS=''
 # Raw phrases that must never reach a user: library internals, temporary names.
 RAW_PHRASES='bad_alloc|basic_filebuf|basic_ios|terminate called|what\(\)|std::|stoi|stod|vector::|out_of_range|\.tmp-[0-9]+-[0-9]+'
 
@@ -83,7 +90,63 @@ EOF
     oiiotool --create 8x8 3 --fill:color=nan,0,0 0,0,8,8 -o "$FX/nan.exr" > /dev/null 2>&1 || true
   fi
   [ -f "$FX/nan.exr" ] || cp "$FX/truncated.exr" "$FX/nan.exr"
+  make_round_two_fixtures
+}
+
+# Issue 21's fixtures: non-regular files, a small dataset, a trained run and its damaged
+# checkpoints, eval shards, configurations and light files with hidden faults.
+make_round_two_fixtures() {
+  mkfifo "$FX/pipe.png" || return 1
+  ln -s "$FX/nothing_here.png" "$FX/dangling.png"
+  ln -s "$FX/loop_b.png" "$FX/loop_a.png" && ln -s "$FX/loop_a.png" "$FX/loop_b.png"
+  "$FACETOOL" synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" -o "$FX/data" \
+    --size 32 --count 8 --threads 1 > /dev/null 2>&1 || return 1
+  mkdir -p "$FX/data2" "$FX/synth_out" "$FX/dangling_data" "$FX/loopdir" "$FX/fifo_shard"
+  cp "$FX/data/sample_00000000.exr" "$FX/data2/"
+  cp "$FX/data/sample_00000000.exr" "$FX/data/sample_00000001.exr" "$FX/synth_out/"
+  cp "$FX/data"/sample_0000000[0-3].exr "$FX/dangling_data/"
+  ln -s "$FX/dangling_data/gone.exr" "$FX/dangling_data/sample_00000004.exr"
+  ln -s "$FX/loopdir/b.png" "$FX/loopdir/a.png" && ln -s "$FX/loopdir/a.png" "$FX/loopdir/b.png"
+  mkfifo "$FX/fifo_shard/per_image.csv"
+  cat > "$FX/cfg.json" <<'JSON'
+{"name": "t", "network": {"width": 4, "input_size": 32}, "optimizer": {"learning_rate": 1e-3},
+ "steps": 20, "checkpoint_every": 100, "validation": {"every": 100, "holdout_every": 0}, "seed": 1,
+ "sources": [{"name": "s", "directory": "data", "batch": 2,
+              "terms": {"albedo": 1, "normal": 0.2, "light": 0.01}}]}
+JSON
+  sed 's/"steps": 20,/"steps": 20, "steps": 2,/' "$FX/cfg.json" > "$FX/dup.json"
+  sed 's/"learning_rate": 1e-3/"learning_rate": 1e-3, "epsilon": 0/' "$FX/cfg.json" > "$FX/eps0.json"
+  sed 's/"albedo": 1,/"albedo": 1e308,/' "$FX/cfg.json" > "$FX/bigweight.json"
+  sed 's/"directory": "data"/"directory": "dangling_data"/' "$FX/cfg.json" > "$FX/dangling_cfg.json"
+  "$FACETOOL" train --config "$FX/cfg.json" --out "$FX/run" --steps 10 > /dev/null 2>&1 || return 1
+  # Damaged step counts of the same length as "10", so that the header stays valid.
+  cp -r "$FX/run" "$FX/negative" &&
+    LC_ALL=C sed -i 's/"step":"10"/"step":"-5"/' "$FX/negative/checkpoint.safetensors"
+  cp -r "$FX/run" "$FX/past" &&
+    LC_ALL=C sed -i 's/"step":"10"/"step":"99"/' "$FX/past/checkpoint.safetensors"
+  cp -r "$FX/run" "$FX/finished" && rm "$FX/finished/checkpoint.safetensors"
+  for i in 0 1 2; do
+    "$FACETOOL" eval --model "$FX/run/weights.safetensors" --data "$FX/data" --shard "$i/3" \
+      -o "$FX/shard$i" > /dev/null 2>&1 || return 1
+  done
+  "$FACETOOL" prepare-real "$FX/face.png" -o "$FX/real" > /dev/null 2>&1 || return 1
+  sed 's/"version": 1,/"version": 1, "version": 1,/' "$FX/light.json" > "$FX/dup_light.json"
+  printf '1 2 3\033]0;pwned\007\033[2J\n' > "$FX/escape.txt"
+  big_png_header 8000 8000 > "$FX/big.png"
   return 0
+}
+
+# A PNG header saying W x H RGB, with 4 KiB of (undecodable) data: enough bytes for its pixel
+# count to be plausible, so that only the memory budget refuses it. CRC-32 from gzip's trailer.
+big_png_header() {
+  be32() { printf '%08x' "$1" | sed 's/../\\x&/g' | xargs -0 printf; }
+  local ihdr crc
+  ihdr=$(mktemp)
+  { printf IHDR; be32 "$1"; be32 "$2"; printf '\x08\x02\x00\x00\x00'; } > "$ihdr"
+  crc=$(gzip -c < "$ihdr" | tail -c8 | head -c4 | od -An -tx1 | awk '{printf "%s%s%s%s", $4, $3, $2, $1}')
+  printf '\x89PNG\r\n\x1a\n'; be32 13; cat "$ihdr"; be32 "$((16#$crc))"
+  be32 4096; printf IDAT; head -c 4096 /dev/zero; be32 0
+  rm -f "$ihdr"
 }
 
 # The output folder a case writes into, filled with good outputs of earlier runs.
@@ -99,6 +162,10 @@ seed_output() {
   cp "$FX/light_sfsnet.txt" "$out/light.txt"
   cp "$FX/face.png" "$out/preview.png"
   cp "$FX/raw.safetensors" "$out/raw.safetensors"
+  # Round two: results of other runs that a bad run must not touch.
+  for run in run finished negative past shard0 shard1 shard2 real synth_out; do
+    cp -r "$FX/$run" "$out/$run"
+  done
 }
 
 folder_hash() { (cd "$1" && find . -type f -print0 | sort -z | xargs -0 -r md5sum) | md5sum; }
@@ -112,7 +179,12 @@ run_case_in() {
   tried=$((tried + 1))
   local before after rc message problems=''
   before=$(folder_hash "$out")
-  message=$(cd "$WORK" && timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "$@" 2>&1 < /dev/null)
+  if [ -n "$LIMITS" ]; then
+    message=$(cd "$WORK" && timeout -k 5 "$TIME_LIMIT" bash -c "$LIMITS; exec \"\$0\" \"\$@\"" \
+      "$FACETOOL" "$@" 2>&1 < /dev/null)
+  else
+    message=$(cd "$WORK" && timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "$@" 2>&1 < /dev/null)
+  fi
   rc=$?
   after=$(folder_hash "$out")
   if [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ]; then
@@ -126,7 +198,8 @@ run_case_in() {
     losses=$((losses + 1)); problems+=" output-folder-changed"
   fi
   if [ "$rc" -ne 124 ] && [ "$rc" -ne 137 ] && [ "$rc" -le 128 ] && [ "$rc" -ne 0 ]; then
-    if ! grep -qF -- "$needle" <<< "$message" || grep -qE -- "$RAW_PHRASES" <<< "$message"; then
+    if ! grep -qF -- "$needle" <<< "$message" || grep -qE -- "$RAW_PHRASES" <<< "$message" ||
+       [[ "$message" == *$'\e'* ]]; then
       unclear=$((unclear + 1)); problems+=" unclear-message"
     fi
   fi
@@ -160,7 +233,231 @@ truncated-png|$FX/truncated.png
 truncated-exr|$FX/truncated.exr
 huge-png|$FX/huge.png
 device|/dev/zero
+pipe|$FX/pipe.png
+dangling-link|$FX/dangling.png
+link-loop|$FX/loop_a.png
 EOF
+}
+
+# Round two's special files (what every file facetool reads is checked for), given to the file
+# options of the commands beyond infer and render.
+special_files() {
+  bad_files | grep -E '^(missing|folder|device|pipe|dangling-link|link-loop)[|]'
+}
+
+# GROUP|OPTION-NAME|arguments, as file_slots.
+round_two_slots() {
+  cat <<'EOF'
+train|config|train --config {BAD} --out {OUT}/newrun
+train|from|train --config {FX}/cfg.json --from {BAD} --out {OUT}/newrun
+eval|model|eval --model {BAD} --data {FX}/data -o {OUT}/eval
+pseudo-label|input|pseudo-label --model {FX}/run/weights.safetensors {BAD} -o {OUT}/pl
+pseudo-label|model|pseudo-label --model {BAD} {FX}/data/sample_00000000.exr -o {OUT}/pl
+prepare-real|input|prepare-real {BAD} -o {OUT}/newreal
+relight|photo|relight --init random --input-size 32 --width 8 {BAD} --light {FX}/light.json -o {OUT}/relight
+relight|light|relight --init random --input-size 32 --width 8 {FX}/face.png --light {BAD} -o {OUT}/relight
+relight|envmap|relight --init random --input-size 32 --width 8 {FX}/face.png --envmap {BAD} -o {OUT}/relight
+infer|photo|infer --init random --input-size 32 --width 8 {BAD} -o {OUT}/infer
+infer|landmark-model|infer --init random --input-size 32 --width 8 --landmark-model {BAD} {FX}/face.png -o {OUT}/infer
+bench|photo|bench photo --photo {BAD} --repeats 1
+EOF
+}
+
+# Round two's named cases: GROUP/NAME|NAMED THING|arguments.
+round_two_cases() {
+  cat <<'EOF'
+train/config-duplicate-key|"steps" twice|train --config {FX}/dup.json --out {OUT}/newrun
+train/epsilon-zero|optimizer.epsilon|train --config {FX}/eps0.json --out {OUT}/newrun
+train/loss-weight-huge|terms.albedo|train --config {FX}/bigweight.json --out {OUT}/newrun
+train/config-is-a-folder|is a folder|train --config {FX}/folder --out {OUT}/newrun
+train/over-a-finished-run|--overwrite|train --config {FX}/cfg.json --out {OUT}/finished
+train/resume-step-negative|step -5|train --config {FX}/cfg.json --out {OUT}/negative --resume
+train/resume-step-past-the-end|step 99|train --config {FX}/cfg.json --out {OUT}/past --resume
+train/data-dangling-sample|dangling symbolic link|train --config {FX}/dangling_cfg.json --out {OUT}/newrun
+eval/merge-missing-shard|2/3|eval --merge {OUT}/shard0 {OUT}/shard1 -o {OUT}/merged
+eval/merge-output-is-a-shard|shard0|eval --merge {OUT}/shard0 {OUT}/shard1 {OUT}/shard2 -o {OUT}/shard0
+eval/merge-pipe-table|per_image.csv|eval --merge {FX}/fifo_shard -o {OUT}/merged
+eval/merge-shard-folder-missing|no_such_shard|eval --merge {OUT}/shard0 {FX}/no_such_shard -o {OUT}/merged
+eval/data-dangling-sample|dangling symbolic link|eval --model {FX}/run/weights.safetensors --data {FX}/dangling_data -o {OUT}/eval
+eval/data-is-a-file|is a file, not a folder|eval --model {FX}/run/weights.safetensors --data {FX}/cfg.json -o {OUT}/eval
+infer/contact-sheet-is-an-input|--contact-sheet|infer --aligned --init random --input-size 32 --width 8 {OUT}/out.png -o {OUT}/infer --contact-sheet {OUT}/out.png
+infer/raw-output-is-an-input|--raw-output|infer --aligned --init random --input-size 32 --width 8 {OUT}/out.png -o {OUT}/infer --raw-output {OUT}/out.png
+infer/folder-of-link-loops|loop of symbolic links|infer --init random --input-size 32 --width 8 {FX}/loopdir -o {OUT}/infer
+render/output-is-an-input|is the input|render --albedo {OUT}/out.exr --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.exr
+render/shading-output-is-an-input|is the input|render --albedo {OUT}/out_shading.exr --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.exr
+render/light-duplicate-key|"version" twice|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/dup_light.json -o {OUT}/out.png
+render/light-escape-sequences|escape.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/escape.txt -o {OUT}/out.png
+light/convert-escape-sequences|escape.txt|light convert {FX}/escape.txt {OUT}/light.txt --to sfsnet
+pseudo-label/one-name-two-folders|would both be written|pseudo-label --model {FX}/run/weights.safetensors {FX}/data/sample_00000000.exr {FX}/data2/sample_00000000.exr -o {OUT}/pl
+pseudo-label/output-over-its-input|would replace|pseudo-label --model {FX}/run/weights.safetensors {OUT}/synth_out/sample_00000000.exr -o {OUT}/synth_out
+prepare-real/over-synthetic-samples|another kind|prepare-real {FX}/face.png -o {OUT}/synth_out
+prepare-real/other-settings|other settings|prepare-real {FX}/face.png -o {OUT}/real --size 64
+EOF
+}
+
+# --- limits, signals and two runs at once (issue 21, classes 2, 3 and 6) ------------------------
+# The smallest address-space limit (ulimit -v, KiB) under which `facetool ARGS...` still runs,
+# from a few candidates; empty when none works.
+smallest_working_memory_limit() {
+  local limit
+  for limit in 400000 600000 800000 1000000 1300000 1700000 2200000 3000000 4000000; do
+    if (ulimit -v "$limit" && "$FACETOOL" "$@" > /dev/null 2>&1) 2> /dev/null; then
+      echo "$limit"
+      return 0
+    fi
+  done
+}
+
+# Runs a named check that is not a single command: NAME, then a function that prints nothing on
+# success and the problem otherwise.
+run_check() {
+  local name=$1 problem
+  shift
+  [[ "$name" =~ $GROUP ]] || return 0
+  tried=$((tried + 1))
+  problem=$("$@" 2>&1)
+  if [ -n "$problem" ]; then
+    failed=$((failed + 1))
+    failures+=("$name")
+    case "$problem" in
+      *hang*) hangs=$((hangs + 1)) ;;
+      *lost*) losses=$((losses + 1)) ;;
+    esac
+    echo "FAIL $name: $problem" | head -8
+  else
+    echo "ok   $name"
+  fi
+}
+
+# Waits (up to 20 s) until FILE exists and is not empty.
+wait_for_file() {
+  local k
+  for k in $(seq 200); do
+    [ -s "$1" ] && return 0
+    sleep 0.1
+  done
+  return 1
+}
+
+# Two trains into one --out: the second is refused while the first runs; the first's log keeps
+# one line per step.
+check_two_trains() {
+  local dir=$WORK/two_trains first rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  "$FACETOOL" train --config "$FX/cfg.json" --out "$dir/run" --steps 1000000 > /dev/null 2>&1 &
+  first=$!
+  wait_for_file "$dir/run/log.jsonl" || { kill "$first"; echo "the first train wrote no log (hang)"; return; }
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" train --config "$FX/cfg.json" --out "$dir/run" --steps 1000000 2>&1)
+  rc=$?
+  kill -TERM "$first"
+  wait "$first"
+  [ "$rc" -ne 0 ] && [ "$rc" -lt 124 ] || echo "the second train exited $rc: $message"
+  grep -q "in use by another facetool run" <<< "$message" || echo "unclear refusal: $message"
+  local steps unique
+  steps=$(grep -o '"step":[0-9]*' "$dir/run/log.jsonl" | wc -l)
+  unique=$(grep -o '"step":[0-9]*' "$dir/run/log.jsonl" | sort -u | wc -l)
+  [ "$steps" -eq "$unique" ] || echo "steps logged twice ($steps lines, $unique steps): data lost"
+}
+
+# Two synths into one --out: the second is refused; SIGTERM then leaves no temporary behind.
+check_two_synths() {
+  local dir=$WORK/two_synths first rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  "$FACETOOL" synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" -o "$dir/out" \
+    --size 32 --count 1000000 --threads 1 > /dev/null 2>&1 &
+  first=$!
+  wait_for_file "$dir/out/sample_00000001.exr" || { kill "$first"; echo "the first synth wrote nothing (hang)"; return; }
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" synth --mesh "$FX/triangle.obj" \
+    --lights "$FX/light_sfsnet.txt" -o "$dir/out" --size 32 --count 1000000 2>&1)
+  rc=$?
+  kill -TERM "$first"
+  wait "$first"
+  [ "$rc" -ne 0 ] && [ "$rc" -lt 124 ] || echo "the second synth exited $rc: $message"
+  grep -q "in use by another facetool run" <<< "$message" || echo "unclear refusal: $message"
+  ! ls "$dir/out" | grep -q '\.tmp-' || echo "SIGTERM left temporaries: $(ls "$dir/out" | grep '\.tmp-')"
+}
+
+# SIGHUP stops training like SIGTERM: exit 128+1, a checkpoint, no temporary left.
+check_train_sighup() {
+  local dir=$WORK/sighup first rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  "$FACETOOL" train --config "$FX/cfg.json" --out "$dir/run" --steps 1000000 > /dev/null 2>&1 &
+  first=$!
+  wait_for_file "$dir/run/log.jsonl" || { kill "$first"; echo "train wrote no log (hang)"; return; }
+  kill -HUP "$first"
+  wait "$first"
+  rc=$?
+  [ "$rc" -eq 129 ] || echo "train ended with $rc after SIGHUP, not 129"
+  [ -s "$dir/run/checkpoint.safetensors" ] || echo "no checkpoint after SIGHUP: the run was lost"
+  ! ls "$dir/run" | grep -q '\.tmp-' || echo "SIGHUP left temporaries: $(ls "$dir/run" | grep '\.tmp-')"
+}
+
+# train under ulimit -f: the checkpoint that does not fit is reported like a full disk (exit 1,
+# not SIGXFSZ), and no temporary is left in the run folder.
+check_train_file_size() {
+  local dir=$WORK/file_size rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  message=$( (ulimit -f 40; timeout -k 5 "$TIME_LIMIT" "$FACETOOL" train --config "$FX/cfg.json" \
+    --out "$dir/run" --steps 2) 2>&1)
+  rc=$?
+  [ "$rc" -eq 1 ] || echo "train exited $rc under ulimit -f (a crash by SIGXFSZ is 153)"
+  grep -q "file-size limit" <<< "$message" || echo "unclear message: $message"
+  ! ls "$dir/run" | grep -q '\.tmp-' || echo "temporaries left: $(ls "$dir/run" | grep '\.tmp-')"
+}
+
+# Inputs sharing a name, in any order, each get their own output folder.
+check_unique_names() {
+  local dir=$WORK/names
+  rm -rf "$dir" && mkdir -p "$dir/a" "$dir/b" "$dir/c"
+  cp "$FX/face.png" "$dir/a/x.png" && cp "$FX/face.png" "$dir/b/x.png" && cp "$FX/face.png" "$dir/c/x_2.png"
+  "$FACETOOL" infer --aligned --init random --input-size 32 --width 8 "$dir/a/x.png" "$dir/b/x.png" \
+    "$dir/c/x_2.png" -o "$dir/out" > /dev/null 2>&1 || { echo "infer failed"; return; }
+  local folders
+  folders=$(find "$dir/out" -mindepth 1 -maxdepth 1 -type d | wc -l)
+  [ "$folders" -eq 3 ] || echo "3 inputs gave $folders output folders: an output was lost"
+}
+
+# prepare-real -o inside its input folder does not take its own samples as photos on a rerun.
+check_prepare_real_inside_input() {
+  local dir=$WORK/inside
+  rm -rf "$dir" && mkdir -p "$dir/photos"
+  cp "$FX/face.png" "$dir/photos/"
+  "$FACETOOL" prepare-real "$dir/photos" -o "$dir/photos/real" > /dev/null 2>&1
+  "$FACETOOL" prepare-real "$dir/photos" -o "$dir/photos/real" > /dev/null 2>&1 ||
+    { echo "the rerun failed"; return; }
+  ! grep -q 'real/' "$dir/photos/real/manifest.tsv" || echo "the rerun took its own outputs as photos"
+}
+
+limit_cases() {
+  local common="--aligned --init random --input-size 32 --width 8"
+  # shellcheck disable=SC2086
+  LIMITS='ulimit -f 4' run_table_case limits/infer-file-size "file-size limit" \
+    "infer $common --seed 9 {FX}/face.png -o {OUT}/infer"
+  run_check limits/train-file-size check_train_file_size
+  if [[ "limits/memory" =~ $GROUP ]]; then
+    local base
+    # shellcheck disable=SC2086
+    base=$(smallest_working_memory_limit infer $common "$FX/face.png" -o "$WORK/probe_infer")
+    if [ -n "$base" ]; then
+      LIMITS="ulimit -v $((base + 300000))" run_table_case limits/infer-memory \
+        "out of memory while reading image" "infer $common {FX}/big.png -o {OUT}/infer"
+    else
+      skip_case limits/infer-memory "no address-space limit lets facetool start here"
+    fi
+    base=$(smallest_working_memory_limit synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" \
+      -o "$WORK/probe_synth" --size 32 --count 1)
+    if [ -n "$base" ]; then
+      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/synth-memory "out of memory" \
+        "synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/bigsynth --size 4096 --count 1"
+    else
+      skip_case limits/synth-memory "no address-space limit lets facetool start here"
+    fi
+  fi
+  run_check concurrency/two-trains-one-folder check_two_trains
+  run_check concurrency/two-synths-one-folder check_two_synths
+  run_check signals/train-sighup check_train_sighup
+  run_check names/infer-unique-names check_unique_names
+  run_check prepare-real/output-inside-input check_prepare_real_inside_input
 }
 
 # File slots: GROUP|OPTION-NAME|arguments with @ for the bad file and OUT for the output folder.
@@ -387,6 +684,15 @@ done < <(bad_files)
 while IFS='|' read -r name needle line; do
   run_table_case "$name" "$needle" "$line"
 done < <(option_cases)
+while IFS='|' read -r kind path; do
+  while IFS='|' read -r group option line; do
+    run_table_case "$group/$option-$kind" "$(basename "$path")" "$line" "$path"
+  done < <(round_two_slots)
+done < <(special_files)
+while IFS='|' read -r name needle line; do
+  run_table_case "$name" "$needle" "$line"
+done < <(round_two_cases)
+limit_cases
 if [[ "disk/" =~ $GROUP ]] || [[ "disk/x" =~ $GROUP ]]; then full_disk_cases; fi
 
 echo

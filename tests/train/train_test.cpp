@@ -254,7 +254,9 @@ TEST_F(TrainTest, KilledCheckpointWriteLeavesACompleteCheckpoint) {
 }
 
 // A NaN in the targets stops the step before the optimiser, naming the step and the term.
-TEST_F(TrainTest, NonFiniteLossStopsNamingStepAndTerm) {
+// Issue 21: a NaN in a sample is named at its source (the file, the part, the pixel) before any
+// step, instead of surfacing as a NaN loss or a renderer error; the weights stay untouched.
+TEST_F(TrainTest, NonFiniteSampleIsNamedAtItsSource) {
   testing::ScratchDir poisoned("train-nan");
   for (const auto& entry : std::filesystem::directory_iterator(data->path())) {
     if (entry.path().extension() != ".exr") continue;
@@ -266,16 +268,42 @@ TEST_F(TrainTest, NonFiniteLossStopsNamingStepAndTerm) {
   auto t = trainer(be, config(poisoned.path()));
   std::vector<std::vector<float>> before;
   for (const auto& [name, p] : t->network().parameters()) before.push_back(p.value().to_host());
-  try {
-    t->step();
-    FAIL() << "no error for a NaN loss";
-  } catch (const TrainingDiverged& e) {
-    EXPECT_TRUE(has(e.what(), "step 1") && has(e.what(), "synthetic/recon_albedo")) << e.what();
-  }
+  const std::string message = error_of([&] { t->step(); });
+  EXPECT_TRUE(has(message, poisoned.path()) && has(message, "NaN or infinite visibility value") &&
+              has(message, "channel 0, pixel (8, 8)"))
+      << message;
   size_t k = 0;
   for (const auto& [name, p] : t->network().parameters())
-    EXPECT_EQ(p.value().to_host(), before[k++]) << name << " changed after the NaN step";
+    EXPECT_EQ(p.value().to_host(), before[k++]) << name << " changed after the refused sample";
   EXPECT_EQ(t->steps_done(), 0);
+}
+
+// NaN weights (what a diverging optimiser leaves) end in TrainingDiverged naming the step, before
+// the renderer sees a NaN light, and are never written as a checkpoint.
+TEST_F(TrainTest, NonFiniteWeightsAreDivergenceAndNeverACheckpoint) {
+  Backend& be = get_backend("cpu");
+  auto t = trainer(be, config(data->path()));
+  const auto parameters = t->network().parameters();  // a copy: the network returns a list
+  const auto& [name, first] = parameters.front();
+  std::vector<float> values = first.value().to_host();
+  values[0] = std::nanf("");
+  first.value().copy_from_host(values);
+  try {
+    t->step();
+    FAIL() << "no error for NaN weights";
+  } catch (const TrainingDiverged& e) {
+    EXPECT_TRUE(has(e.what(), "training diverged at step 1")) << e.what();
+  }
+  testing::ScratchDir run("train-nan-checkpoint");
+  const std::string checkpoint = run.file("checkpoint.safetensors");
+  try {
+    t->save(checkpoint);
+    FAIL() << "a checkpoint with NaN weights was written";
+  } catch (const TrainingDiverged& e) {
+    EXPECT_TRUE(has(e.what(), "'" + name + "'") && has(e.what(), "no checkpoint was written"))
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(checkpoint));
 }
 
 // A real sample (facetool-real-1) without labels is refused where labels are needed, read with

@@ -10,6 +10,7 @@
 #include "core/io/exr_io.h"
 #include "core/io/image_io.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 
 namespace facetool {
 namespace {
@@ -22,9 +23,7 @@ std::string lower_extension(const std::string& path) {
 
 // Every channel of the file, through OpenImageIO (read_exr reads any format it knows).
 LayeredImage read_any(const std::string& option, const std::string& path) {
-  std::error_code ec;
-  check(std::filesystem::is_regular_file(path, ec), option, " '", path,
-        "' does not exist or is not a file");
+  check_regular_input_file(path, kMaxImageFileBytes, option);
   try {
     return read_exr(path);
   } catch (const Error& e) {

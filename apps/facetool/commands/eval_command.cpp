@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "apps/facetool/commands/command.h"
@@ -21,6 +22,8 @@
 #include "core/synth/gbuffer.h"
 #include "core/util/shard.h"
 #include "core/train/eval_metrics.h"
+#include "core/util/file_checks.h"
+#include "core/util/folder_lock.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -38,6 +41,9 @@ struct ImageResult {
   int64_t pixels = 0, under20 = 0, under25 = 0, under30 = 0;
   double angle_sum = 0, angle_sum_sq = 0;
 };
+
+// The largest per_image.csv or summary.json --merge reads (about a million images).
+constexpr uint64_t kMaxCsvBytes = uint64_t{1} << 30;
 
 constexpr const char* kCsvHeader =
     "file,ground_truth,normal_error_mean_deg,albedo_mse,visibility_mse,light_error,psnr_db,ssim,"
@@ -81,7 +87,7 @@ void add_sheet_row(RgbImage& sheet, int row, int size, const float* input, const
 // per_image.csv, summary.json and summary.md of `results` (one run, or merged shards).
 std::string write_outputs(const std::string& out_dir, const std::string& model,
                           const std::string& data, const std::vector<ImageResult>& results,
-                          const AngularSummary& a) {
+                          const AngularSummary& a, const std::string& shard = "") {
   std::ostringstream csv;
   csv << kCsvHeader << "\n";
   for (const ImageResult& r : results)
@@ -107,6 +113,7 @@ std::string write_outputs(const std::string& out_dir, const std::string& model,
     summary["visibility_mse_mean"] = json_number(mean_of(results, &ImageResult::visibility_mse));
     summary["light_error_mean"] = json_number(mean_of(results, &ImageResult::light));
   }
+  if (!shard.empty()) summary["shard"] = shard;  // --merge checks that no shard is missing
   const std::string json_text = summary.dump(2) + "\n";
   write_file_atomically((fs::path(out_dir) / "summary.json").string(), json_text.data(), json_text.size());
 
@@ -145,11 +152,19 @@ double csv_number(const std::string& text) { return text.empty() ? NAN : std::st
 int merge_shards(const std::vector<std::string>& shards, const std::string& out_dir) {
   std::vector<ImageResult> results;
   std::string model, data;
+  // -o naming one of the shards would replace that shard's table with the merged one.
+  for (const std::string& dir : shards)
+    check(!fs::exists(out_dir) || !fs::equivalent(out_dir, dir), "eval --merge: -o '", out_dir,
+          "' is the shard folder '", dir, "'; writing there would replace that shard's ",
+          "results: choose another -o");
+  int shard_count = 0, unlabelled_shards = 0;
+  std::set<int> shards_seen;
   for (const std::string& dir : shards) {
     const std::string path = (fs::path(dir) / "per_image.csv").string();
-    std::ifstream in(path);
-    check(in.good(), "eval --merge: cannot read '", path, "'; run eval --shard i/n -o ", dir,
-          " first");
+    check_input_folder(dir, "eval --merge: shard folder");
+    check(fs::exists(path), "eval --merge: '", path, "' does not exist; run eval --shard i/n -o ",
+          dir, " first");
+    std::istringstream in(read_regular_input_file(path, kMaxCsvBytes, "eval --merge: shard table"));
     std::string line;
     std::getline(in, line);
     check(line == kCsvHeader, "eval --merge: '", path, "' is not a per_image.csv of this facetool "
@@ -180,11 +195,28 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
       }
       results.push_back(r);
     }
-    std::ifstream summary_in((fs::path(dir) / "summary.json").string());
-    if (summary_in.good() && model.empty()) {
-      const nlohmann::json j = nlohmann::json::parse(summary_in, nullptr, false);
+    const std::string summary_path = (fs::path(dir) / "summary.json").string();
+    nlohmann::json j;
+    if (fs::exists(summary_path))
+      j = nlohmann::json::parse(
+          read_regular_input_file(summary_path, kMaxCsvBytes, "eval --merge: shard summary"),
+          nullptr, false);
+    if (model.empty()) {
       if (j.is_object() && j.contains("model") && j["model"].is_string()) model = j["model"];
       if (j.is_object() && j.contains("data") && j["data"].is_string()) data = j["data"];
+    }
+    // Which shard of how many: all of them must be merged, else the figures are of a part.
+    if (j.is_object() && j.contains("shard") && j["shard"].is_string()) {
+      int index = 0, count = 1;
+      parse_shard(j["shard"].get<std::string>(), index, count);
+      check(shard_count == 0 || shard_count == count, "eval --merge: '", dir, "' is shard ",
+            j["shard"].get<std::string>(), " but another folder is of a run split ", shard_count,
+            " ways; merge the shards of one run");
+      shard_count = count;
+      check(shards_seen.insert(index).second, "eval --merge: shard ", index, "/", count,
+            " is given twice ('", dir, "'); merge each shard once");
+    } else {
+      ++unlabelled_shards;
     }
   }
   std::sort(results.begin(), results.end(),
@@ -193,6 +225,18 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
     check(results[i].file != results[i - 1].file, "eval --merge: '", results[i].file,
           "' is in two shards; merge each shard's output once");
   check(!results.empty(), "eval --merge: the shards hold no images");
+  if (shard_count > 0 && unlabelled_shards == 0 && static_cast<int>(shards_seen.size()) != shard_count) {
+    std::string missing;
+    for (int i = 0; i < shard_count; ++i)
+      if (!shards_seen.count(i))
+        missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(shard_count);
+    fail("eval --merge: the run was split ", shard_count, " ways but shard(s) ", missing,
+         " are not given; merge all of them (the figures of a part are not the run's)");
+  }
+  if (unlabelled_shards > 0)
+    std::cerr << "eval --merge: warning: " << unlabelled_shards << " shard folder(s) do not say "
+              << "which shard they are (made by an older facetool); cannot check that none is "
+              << "missing\n";
   AngleSums sums;
   for (const ImageResult& r : results) {
     AngleSums image;
@@ -206,6 +250,7 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
   }
   const AngularSummary a = sums.summary();
   fs::create_directories(out_dir);
+  const FolderLock lock(out_dir, "-o");  // one run per output folder
   std::cout << write_outputs(out_dir, model, data, results, a);
   std::cerr << "merged " << shards.size() << " shards, " << results.size() << " images\n";
   return 0;
@@ -251,14 +296,18 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   int shard_index = 0, shard_count = 1;
   parse_shard(shard, shard_index, shard_count);
   if (batch < 1) throw UsageError("eval: --batch must be at least 1");
-  check(fs::is_directory(data), "eval: data folder '", data, "' does not exist");
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(data)) {
-    const std::string name = e.path().filename().string();
-    if (e.is_regular_file() && name.rfind("sample_", 0) == 0 && e.path().extension() == ".exr")
-      files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
+  // A sample that cannot be read (a dangling link, a link loop, a pipe) is refused, not skipped:
+  // the figures would silently be of fewer samples.
+  std::vector<std::string> problems;
+  std::vector<std::string> files = list_folder_files(
+      data, "eval: data folder",
+      [](const std::string& name) {
+        return name.rfind("sample_", 0) == 0 && fs::path(name).extension() == ".exr";
+      },
+      problems);
+  check(problems.empty(), "eval: sample ", problems.empty() ? "" : problems[0],
+        problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) + " more)" : "",
+        "; fix or remove it");
   check(!files.empty(), "eval: '", data, "' holds no sample_*.exr files");
   if (shard_count > 1) {
     std::vector<std::string> mine;
@@ -275,6 +324,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   const int size = network->config().input_size;
   const size_t plane = static_cast<size_t>(size) * size;
   fs::create_directories(out_dir);
+  const FolderLock lock(out_dir, "-o");  // one run per output folder
 
   std::vector<ImageResult> results;
   std::vector<double> angles;
@@ -337,7 +387,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   progress.finish();
 
   const std::string md_text =
-      write_outputs(out_dir, model, data, results, summarize_angles(angles));
+      write_outputs(out_dir, model, data, results, summarize_angles(angles),
+                    shard_count > 1 ? std::to_string(shard_index) + "/" + std::to_string(shard_count) : "");
   if (want_sheet) write_png_atomically((fs::path(out_dir) / "contact_sheet.png").string(), sheet);
   std::cout << md_text;
   return 0;

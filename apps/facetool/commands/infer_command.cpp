@@ -20,6 +20,9 @@
 #include "core/photo/photo_files.h"
 #include "core/model/network_weights.h"
 #include "core/model/safetensors.h"
+#include "core/util/file_checks.h"
+#include "core/util/folder_lock.h"
+#include "core/util/output_names.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -98,10 +101,14 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<std::string> files =
       aligned ? values["images"].as<std::vector<std::string>>()
               : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
-  for (const std::string& f : files)
-    check(fs::is_regular_file(f), "input image '", f, "' does not exist or is not a file");
+  for (const std::string& f : files) check_regular_input_file(f, kMaxImageFileBytes, "input image");
+  // --contact-sheet and --raw-output name files: never one of the inputs.
+  for (const char* option : {"contact-sheet", "raw-output"})
+    if (values.count(option))
+      check_output_is_not_an_input(values[option].as<std::string>(), std::string("--") + option,
+                                   files);
   // Output names come from the whole list, so shards write what one run writes.
-  std::vector<std::string> stems = unique_stems(files);
+  std::vector<std::string> stems = unique_output_names(files);
   int shard_index = 0, shard_count = 1;
   parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
   if (shard_count > 1) {
@@ -119,6 +126,14 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   photo_options.batch = batch;
   photo_options.contact_sheet = !values.count("no-contact-sheet");
 
+  // One run per output folder (the shards of one sharded run write disjoint names and share it).
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir, "': ", ec.message());
+  }
+  const FolderLock lock(out_dir, "-o",
+                        shard_count > 1 ? FolderLock::Mode::kShared : FolderLock::Mode::kExclusive);
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
   NetworkPlugin* network = loaded.network.get();

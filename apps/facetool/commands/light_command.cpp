@@ -14,6 +14,7 @@
 #include "core/light/environment_map_file.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_rotation.h"
+#include "core/util/file_checks.h"
 
 namespace po = boost::program_options;
 
@@ -29,9 +30,7 @@ const char kOverview[] =
     "Run 'facetool light <subcommand> --help' for its options.\n";
 
 void require_existing_file(const std::string& path, const std::string& what) {
-  std::error_code ec;
-  check(std::filesystem::is_regular_file(path, ec), what, " '", path,
-        "' does not exist or is not a file");
+  check_regular_input_file(path, kMaxImageFileBytes, what);  // its reader applies its own limit
 }
 
 std::string format_channel(const sh::RgbLight& light, int index) {

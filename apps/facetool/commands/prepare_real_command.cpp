@@ -15,6 +15,8 @@
 #include "core/util/atomic_file.h"
 #include "core/io/exr_io.h"
 #include "core/io/sample_files.h"
+#include "core/util/file_checks.h"
+#include "core/util/folder_lock.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -28,24 +30,52 @@ struct Photo {
   std::string source;  // relative to its input folder (the file name for a file argument)
 };
 
-std::vector<Photo> list_photos(const std::vector<std::string>& inputs) {
+// The photos of `inputs` (folders searched recursively, skipping the output folder `out` when it
+// lies inside one: its samples are not inputs). Entries that cannot be read as files (dangling
+// links, link loops, pipes) are added to `problems` with the reason.
+std::vector<Photo> list_photos(const std::vector<std::string>& inputs, const std::string& out,
+                               std::vector<std::pair<std::string, std::string>>& problems) {
   std::vector<Photo> photos;
   for (const std::string& input : inputs) {
-    if (fs::is_directory(input)) {
+    std::error_code input_error;
+    if (fs::is_directory(input, input_error)) {
       std::vector<Photo> found;
-      for (const auto& e : fs::recursive_directory_iterator(input))
-        if (e.is_regular_file() && !is_temporary_file_name(e.path().filename().string())) {
-          std::string ext = e.path().extension().string();
-          std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-          if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff" ||
-              ext == ".bmp" || ext == ".webp" || ext == ".exr" || ext == ".hdr")
-            found.push_back({e.path().string(), fs::relative(e.path(), input).generic_string()});
+      std::error_code ec;
+      fs::recursive_directory_iterator it(input, ec), end;
+      check(!ec, "input folder '", input, "' cannot be listed: ", ec.message());
+      for (; it != end; it.increment(ec)) {
+        check(!ec, "input folder '", input, "' cannot be listed: ", ec.message());
+        const fs::directory_entry& e = *it;
+        std::error_code same;
+        if (e.is_directory(same) && fs::equivalent(e.path(), out, same)) {
+          it.disable_recursion_pending();
+          continue;
         }
+        std::string ext = e.path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        const bool photo_name = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" ||
+                                ext == ".tiff" || ext == ".bmp" || ext == ".webp" || ext == ".exr" ||
+                                ext == ".hdr";
+        std::error_code status_error;
+        const fs::file_status target = e.status(status_error);  // follows a link
+        if (fs::is_directory(target) || !photo_name ||
+            is_temporary_file_name(e.path().filename().string()))
+          continue;
+        if (!fs::is_regular_file(target)) {
+          const std::string why =
+              target.type() == fs::file_type::not_found ? "a symbolic link to nothing"
+              : status_error ? status_error.message()
+                             : std::string("not a regular file (a pipe, device or socket)");
+          problems.emplace_back(fs::relative(e.path(), input).generic_string(), "unreadable: " + why);
+          continue;
+        }
+        found.push_back({e.path().string(), fs::relative(e.path(), input).generic_string()});
+      }
       std::sort(found.begin(), found.end(), [](const Photo& a, const Photo& b) { return a.source < b.source; });
       check(!found.empty(), "folder '", input, "' holds no photos");
       photos.insert(photos.end(), found.begin(), found.end());
     } else {
-      check(fs::is_regular_file(input), "input '", input, "' does not exist or is not a file or folder");
+      check_regular_input_file(input, kMaxImageFileBytes, "input photo");
       photos.push_back({input, fs::path(input).filename().generic_string()});
     }
   }
@@ -92,19 +122,34 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   const double max_cut = values["max-edge-cut"].as<double>();
   PhotoInferOptions photo = photo_options_from(values);
   photo.detection.max_faces = 1;
-  const std::vector<Photo> photos = list_photos(values["inputs"].as<std::vector<std::string>>());
   const std::string out = values["output"].as<std::string>();
   std::error_code ec;
   fs::create_directories(out, ec);
   check(!ec, "cannot create output folder '", out, "': ", ec.message());
+  check_input_folder(out, "-o");
+  const FolderLock lock(out, "-o");  // one run per output folder
+  std::vector<std::pair<std::string, std::string>> problems;
+  const std::vector<Photo> photos =
+      list_photos(values["inputs"].as<std::vector<std::string>>(), out, problems);
   remove_stale_temporary_files(out);
 
   FaceDetector detector(photo.landmark_model, photo.cnn_model);
   detector.prepare(photo.detection.detector);
   std::ostringstream manifest;
-  manifest << "# facetool prepare-real manifest: generator " << kRealSampleVersion << ", size "
-           << size << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull") << "\n"
-           << "file\tsource\tstatus\tdetail\n";
+  std::ostringstream settings_line;
+  settings_line << "# facetool prepare-real manifest: generator " << kRealSampleVersion
+                << ", size " << size
+                << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull");
+  const std::string settings = settings_line.str();
+  // A rerun keeps the samples already there only when they were made with these settings.
+  const std::string manifest_path = (fs::path(out) / "manifest.tsv").string();
+  if (fs::exists(manifest_path)) {
+    const std::string earlier = read_regular_input_file(manifest_path, kMaxTextFileBytes, "manifest");
+    const std::string first_line = earlier.substr(0, earlier.find('\n'));
+    check(first_line == settings, "-o '", out, "' holds samples made with other settings ('",
+          first_line, "', now '", settings, "'); use a new output folder");
+  }
+  manifest << settings << "\n" << "file\tsource\tstatus\tdetail\n";
   int written = 0, kept = 0, skipped = 0;
   ProgressBar progress("prepare-real", static_cast<int64_t>(photos.size()), "photos");
   for (size_t k = 0; k < photos.size(); ++k) {
@@ -112,6 +157,21 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
     const std::string name = sample_file_name(static_cast<int64_t>(k));
     const std::string path = (fs::path(out) / name).string();
     if (fs::exists(path)) {
+      // Another kind of sample (synthetic, pseudo-labelled) is another dataset: never replaced.
+      std::string version = "(unreadable)";
+      try {
+        const LayeredImage header = read_exr_header(path, "facetool:");
+        const std::string* v = header.find_metadata("facetool:generator_version");
+        version = v ? *v : "(none)";
+        check(!v || *v != kRealSampleVersion || header.width == size, "'", path, "' is ",
+              header.width, " pixels wide but --size is ", size,
+              ": it was made with other settings; use a new output folder");
+      } catch (const Error& e) {
+        if (version != "(unreadable)") throw;
+      }
+      check(version == "(unreadable)" || version == kRealSampleVersion, "-o '", out,
+            "' holds '", name, "', a sample of another kind (generator ", version,
+            "): prepare-real would replace it; use a new output folder");
       const std::string source = read_real_sample_source(path);
       check(source.empty() || source == p.source, "'", path, "' holds the sample of '", source,
             "' but photo ", k, " is now '", p.source,
@@ -151,6 +211,10 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
     progress.advance();
   }
   progress.finish();
+  for (const auto& [source, reason] : problems) {
+    manifest << "-\t" << clean(source) << "\tskipped\t" << clean(reason) << "\n";
+    ++skipped;
+  }
   const std::string text = manifest.str();
   write_file_atomically((fs::path(out) / "manifest.tsv").string(), text.data(), text.size());
   std::cerr << "prepare-real: " << written << " written, " << kept << " kept from an earlier run, "

@@ -19,6 +19,8 @@
 #include "core/io/exr_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/synth/synth_sample.h"
+#include "core/util/file_checks.h"
+#include "core/util/folder_lock.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -94,6 +96,16 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
   return 0;
 }
 
+// The file an input is written as: a sample EXR keeps its name, a plain crop is named after its
+// position in the whole input list.
+// (The same test as load_face_input's: an .exr with facetool's generator_version attribute.)
+std::string output_name(const std::string& input, int64_t index) {
+  if (fs::path(input).extension() == ".exr" &&
+      read_exr_header(input, "facetool:").find_metadata("facetool:generator_version") != nullptr)
+    return fs::path(input).filename().string();
+  return sample_file_name(index);
+}
+
 int run_pseudo_label(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   std::string model, out_dir, shard = "0/1", from = "network";
@@ -138,8 +150,18 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   if (model.empty() && from == "network") model = default_model_path();
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
   std::vector<std::string> files = values["images"].as<std::vector<std::string>>();
-  for (const std::string& f : files)
-    check(fs::is_regular_file(f), "input '", f, "' does not exist or is not a file");
+  for (const std::string& f : files) check_regular_input_file(f, kMaxImageFileBytes, "input");
+  // The output names of the whole list (before sharding): two inputs never share one, and no
+  // output replaces an input.
+  std::map<std::string, size_t> owner;
+  for (size_t k = 0; k < files.size(); ++k) {
+    const std::string name = output_name(files[k], static_cast<int64_t>(k));
+    const auto [it, fresh] = owner.emplace(name, k);
+    check(fresh, "inputs '", files[it->second], "' and '", files[k], "' would both be written as '",
+          name, "'; label them into separate output folders");
+    check(!same_existing_file((fs::path(out_dir) / name).string(), files[k]), "-o '", out_dir,
+          "' would replace the input '", files[k], "' with its labelled copy; choose another -o");
+  }
   // Each input keeps its index in the whole list (plain crops are named sample_<index>.exr).
   int shard_index = 0, shard_count = 1;
   parse_shard(shard, shard_index, shard_count);
@@ -160,6 +182,8 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
   fs::create_directories(out_dir);
+  check_input_folder(out_dir, "-o");
+  const FolderLock lock(out_dir, "-o");  // one run per output folder
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "images");
   std::vector<FaceInput> inputs;  // the batch's
   decompose_in_batches(
@@ -171,8 +195,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
       },
       [&](size_t first, const Decomposition& d, const std::vector<float>&) {
         for (int i = 0; i < d.count; ++i) {
-          const std::string name = inputs[i].sample ? fs::path(files[first + i]).filename().string()
-                                                    : sample_file_name(index[first + i]);
+          const std::string name = output_name(files[first + i], index[first + i]);
           write_exr_atomically((fs::path(out_dir) / name).string(), labelled_sample(inputs[i], d, i, model));
         }
         progress.advance(d.count);

@@ -19,6 +19,9 @@
 #include "core/relight/animated_gif.h"
 #include "core/light/environment_map_file.h"
 #include "core/sh/sh_rotation.h"
+#include "core/util/folder_lock.h"
+#include "core/util/file_checks.h"
+#include "core/util/output_names.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -37,7 +40,7 @@ double seconds_since(Clock::time_point start) {
 sh::RgbLight light_from_file_options(const po::variables_map& values) {
   if (values.count("light")) {
     const std::string path = values["light"].as<std::string>();
-    check(fs::is_regular_file(path), "light file '", path, "' does not exist or is not a file");
+    check_regular_input_file(path, kMaxTextFileBytes, "light file");
     if (values.count("light-format")) {
       const light::Format format = light::format_from_name(values["light-format"].as<std::string>());
       return light::read_light(path, &format).light;
@@ -45,7 +48,7 @@ sh::RgbLight light_from_file_options(const po::variables_map& values) {
     return light::read_light(path).light;
   }
   const std::string path = values["envmap"].as<std::string>();
-  check(fs::is_regular_file(path), "environment map '", path, "' does not exist or is not a file");
+  check_regular_input_file(path, kMaxImageFileBytes, "environment map");
   const sh::EnvironmentMap map = sh::read_environment_map(path);
   check(std::abs(map.width - 2 * map.height) <= 1, "environment map '", path, "' is ", map.width, "x",
         map.height, ", not an equirectangular (latitude-longitude) panorama, which is twice as wide "
@@ -145,6 +148,12 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   std::optional<sh::RgbLight> file_light;
   if (!values.count("light-from")) file_light = light_from_file_options(values);
 
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
+  }
+  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
@@ -157,7 +166,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   sh::RgbLight light{};
   if (values.count("light-from")) {
     const std::string path = values["light-from"].as<std::string>();
-    check(fs::is_regular_file(path), "light source photo '", path, "' does not exist or is not a file");
+    check_regular_input_file(path, kMaxImageFileBytes, "light source photo");
     source = photo_decomposer.decompose_file(path);
     light = source->photo_lights[0];  // the best-scoring face
   } else {
@@ -166,12 +175,12 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   if (rotation) light = sh::rotate_light(light, *rotation);
   light = relight::scale_light(light, intensity);
 
-  const std::vector<std::string> stems = unique_stems(photos);
+  const std::vector<std::string> stems = unique_output_names(photos);
   int failed = 0;
   ProgressBar progress("relight", static_cast<int64_t>(photos.size()), "photos");
-  for (size_t p = 0; p < photos.size(); ++p) {
-    const std::string& path = photos[p];
-    const std::string& stem = stems[p];
+  for (size_t index = 0; index < photos.size(); ++index) {
+    const std::string& path = photos[index];
+    const std::string& stem = stems[index];
     const Clock::time_point start = Clock::now();
     DecomposedPhoto target;
     try {

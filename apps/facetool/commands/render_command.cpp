@@ -17,6 +17,7 @@
 #include "core/plugin/renderer_plugin.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/math_constants.h"
+#include "core/util/file_checks.h"
 
 namespace po = boost::program_options;
 
@@ -145,11 +146,13 @@ int run_render(CommandContext& context, const std::vector<std::string>& args) {
   }
 
   // Read and check everything before any work.
-  {
-    std::error_code ec;
-    check(std::filesystem::is_regular_file(light_path, ec), "--light '", light_path,
-          "' does not exist or is not a file");
-  }
+  check_regular_input_file(light_path, kMaxTextFileBytes, "--light");
+  // Neither output may be one of the inputs: it would be replaced by the rendering.
+  std::vector<std::string> input_files = {albedo_path, normal_path, light_path};
+  if (!visibility_path.empty()) input_files.push_back(visibility_path);
+  if (!mask_path.empty()) input_files.push_back(mask_path);
+  check_output_is_not_an_input(paths.image, "-o", input_files);
+  check_output_is_not_an_input(paths.shading, "-o (its _shading sibling)", input_files);
   const light::LightFile light =
       light::read_light(light_path, light_format.empty() ? nullptr : &format);
   ComponentImage albedo = read_albedo_image(albedo_path);

@@ -19,6 +19,7 @@ namespace po = boost::program_options;
 namespace facetool {
 namespace {
 
+
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int signal) { g_stop_signal.store(signal); }
 
@@ -40,13 +41,15 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
       ("time-limit", po::value(&time_limit_minutes)->value_name("MINUTES"),
        "stop after this much wall time in this process (checkpoint written; --resume continues): "
        "runs of equal time, sittings of a long run")
-      ("resume", "continue the run in RUN from its checkpoint, exactly (same losses on cpu)");
+      ("resume", "continue the run in RUN from its checkpoint, exactly (same losses on cpu)")
+      ("overwrite", "start afresh in a RUN that holds another run's weights or log (without a "
+       "checkpoint to resume): they are replaced");
   po::variables_map values;
   if (!parse_command_options(
           "train --config FILE.json --out RUN [options]",
           "Trains the network for one stage of the paper (or any configuration), with the loss "
           "terms of the loaded loss plugins. Writes a checkpoint every checkpoint_every steps, on "
-          "Ctrl-C / SIGTERM and at the end; --resume continues from it. Under mpirun -np K the "
+          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np K the "
           "ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes the "
           "run folder.",
           options, {}, args, values))
@@ -81,13 +84,14 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   run_options.from = from;
   run_options.config_source = config_path;
   run_options.time_limit_seconds = time_limit_minutes * 60.0;
+  run_options.overwrite = values.count("overwrite") > 0;
   TrainingRun run(trainer, config, *comm, run_options);
   const bool writer = run.writer();
   if (resume && writer) std::cerr << "resumed " << out << " at step " << trainer.steps_done() << "\n";
 
   g_stop_signal.store(0);
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  // SIGHUP (the terminal closed, the session ended) stops like SIGTERM: checkpoint first.
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, on_stop_signal);
   const int64_t first = run.first_step();
   int64_t images = 0;
   double last_draw = -1.0;
@@ -133,8 +137,7 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
   } else if (writer) {
     std::cerr << "trained " << trainer.steps_done() << " steps; weights in " << run.weights_path() << "\n";
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, SIG_DFL);
   return exit_code;
 }
 

@@ -1,0 +1,13 @@
+// Text from files made safe to print on a terminal: control bytes shown, never interpreted.
+#pragma once
+
+#include <string>
+
+namespace facetool {
+
+// `text` with every control byte but newline and tab (escape sequences, carriage returns, bells,
+// DEL) written as \xNN, so bytes quoted from a hostile file cannot move the cursor, recolour or
+// retitle the user's terminal.
+std::string printable_text(const std::string& text);
+
+}  // namespace facetool
