@@ -12,6 +12,7 @@ packages=(
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model
   libopenmpi-dev openmpi-bin  # optional: data-parallel training (mpirun -np K facetool train)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
+  libjemalloc2   # benchmarks only: preloaded under PyTorch by scripts/bench-anchors.py (allocator)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )
 

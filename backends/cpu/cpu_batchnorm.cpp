@@ -28,12 +28,11 @@ double lane_sum(const float* v, int64_t m, Term term) {
   return total;
 }
 
-}  // namespace
-
-void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
-                            const Tensor& running_mean, const Tensor& running_var,
-                            const Tensor& save_mean, const Tensor& save_invstd, const Tensor& y,
-                            const BatchNormParams& p) {
+// The batch norm, followed by a leaky ReLU of `slope` when `leaky`, in the same pass.
+void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+               const Tensor& running_mean, const Tensor& running_var, const Tensor& save_mean,
+               const Tensor& save_invstd, const Tensor& y, const BatchNormParams& p, bool leaky,
+               float slope) {
   const Shape& s = x.shape();
   const int64_t count = s.n() * s.h() * s.w();
   const int64_t plane = s.h() * s.w();
@@ -77,17 +76,25 @@ void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& 
       for (int64_t n = 0; n < s.n(); ++n) {
         const float* in = px + (n * s.c() + c) * plane;
         float* out = py + (n * s.c() + c) * plane;
-        for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
+        if (leaky) {
+          for (int64_t i = 0; i < plane; ++i) {
+            const float v = in[i] * a + b;
+            out[i] = v > 0.0f ? v : slope * v;
+          }
+        } else {
+          for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
+        }
       }
     }
   });
 }
 
-void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
-                                     const Tensor& save_mean, const Tensor& save_invstd,
-                                     const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
-                                     const Tensor* dbeta, const BatchNormParams& p,
-                                     bool accumulate) {
+// The batch norm's backward; with `activated` (the output of the fused leaky ReLU of `slope`),
+// dy is first multiplied by the activation's derivative, element by element as it is read.
+void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save_mean,
+                        const Tensor& save_invstd, const Tensor& dy, const Tensor* activated,
+                        float slope, const Tensor* dx, const Tensor* dgamma, const Tensor* dbeta,
+                        const BatchNormParams& p, bool accumulate) {
   const Shape& s = x.shape();
   const int64_t count = s.n() * s.h() * s.w();
   const int64_t plane = s.h() * s.w();
@@ -99,6 +106,12 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
   float* pdx = dx ? ptr(*dx) : nullptr;
   float* pdg = dgamma ? ptr(*dgamma) : nullptr;
   float* pdb = dbeta ? ptr(*dbeta) : nullptr;
+  const float* pa = activated ? ptr(*activated) : nullptr;
+  // dy, times the leaky ReLU's derivative (1 where its output is positive, else slope).
+  auto grad = [pa, slope](const float* g, int64_t offset, int64_t i) {
+    if (!pa) return g[i];
+    return pa[offset + i] > 0.0f ? g[i] : slope * g[i];
+  };
   parallel_for(s.c(), 1, [&](int64_t begin, int64_t end) {
     for (int64_t c = begin; c < end; ++c) {
       const float mean = psm[c];
@@ -106,12 +119,14 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
       // sum(dy) and sum(dy * xhat) over the channel.
       double sum_dy = 0.0, sum_dy_xhat = 0.0;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const float* in = px + (n * s.c() + c) * plane;
-        const float* g = pdy + (n * s.c() + c) * plane;
+        const int64_t offset = (n * s.c() + c) * plane;
+        const float* in = px + offset;
+        const float* g = pdy + offset;
         float plane_dy = 0.0f, plane_dy_xhat = 0.0f;
         for (int64_t i = 0; i < plane; ++i) {
-          plane_dy += g[i];
-          plane_dy_xhat += g[i] * (in[i] - mean) * invstd;
+          const float gi = grad(g, offset, i);
+          plane_dy += gi;
+          plane_dy_xhat += gi * (in[i] - mean) * invstd;
         }
         sum_dy += plane_dy;
         sum_dy_xhat += plane_dy_xhat;
@@ -124,16 +139,54 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
       const float mean_dy = p.training ? static_cast<float>(sum_dy / count) : 0.0f;
       const float mean_dy_xhat = p.training ? static_cast<float>(sum_dy_xhat / count) : 0.0f;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const float* in = px + (n * s.c() + c) * plane;
-        const float* g = pdy + (n * s.c() + c) * plane;
-        float* out = pdx + (n * s.c() + c) * plane;
+        const int64_t offset = (n * s.c() + c) * plane;
+        const float* in = px + offset;
+        const float* g = pdy + offset;
+        float* out = pdx + offset;
         for (int64_t i = 0; i < plane; ++i) {
           const float xhat = (in[i] - mean) * invstd;
-          store(out[i], scale * (g[i] - mean_dy - xhat * mean_dy_xhat), accumulate);
+          store(out[i], scale * (grad(g, offset, i) - mean_dy - xhat * mean_dy_xhat), accumulate);
         }
       }
     }
   });
+}
+
+}  // namespace
+
+void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                            const Tensor& running_mean, const Tensor& running_var,
+                            const Tensor& save_mean, const Tensor& save_invstd, const Tensor& y,
+                            const BatchNormParams& p) {
+  normalize(x, gamma, beta, running_mean, running_var, save_mean, save_invstd, y, p, false, 0.0f);
+}
+
+bool CpuBackend::batch_norm_leaky_relu(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                                       const Tensor& running_mean, const Tensor& running_var,
+                                       const Tensor& save_mean, const Tensor& save_invstd,
+                                       float slope, const Tensor& y, const BatchNormParams& p) {
+  normalize(x, gamma, beta, running_mean, running_var, save_mean, save_invstd, y, p, true, slope);
+  return true;
+}
+
+void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
+                                     const Tensor& save_mean, const Tensor& save_invstd,
+                                     const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
+                                     const Tensor* dbeta, const BatchNormParams& p,
+                                     bool accumulate) {
+  normalize_backward(x, gamma, save_mean, save_invstd, dy, nullptr, 0.0f, dx, dgamma, dbeta, p,
+                     accumulate);
+}
+
+bool CpuBackend::batch_norm_leaky_relu_backward(const Tensor& x, const Tensor& gamma,
+                                                const Tensor& save_mean,
+                                                const Tensor& save_invstd, const Tensor& y,
+                                                float slope, const Tensor& dy, const Tensor* dx,
+                                                const Tensor* dgamma, const Tensor* dbeta,
+                                                const BatchNormParams& p, bool accumulate) {
+  normalize_backward(x, gamma, save_mean, save_invstd, dy, &y, slope, dx, dgamma, dbeta, p,
+                     accumulate);
+  return true;
 }
 
 }  // namespace facetool::cpu

@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "core/util/error.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -39,6 +40,7 @@ RgbImage apply_exif_orientation(const RgbImage& in, int orientation) {
 }
 
 RgbImage read_photo(const std::string& path) {
+  StageTimer timer("decode");
   int orientation = 1;
   bool is_float = false;
   {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/ops/ops.h"
 #include "core/util/error.h"
 
 namespace facetool::paper_network {
@@ -18,7 +19,19 @@ ResidualStack::ResidualStack(Backend& be, ParameterSet& set, const std::string& 
 ag::Variable ResidualStack::operator()(const ag::Variable& x, bool training) const {
   ag::Variable h = x;
   for (const ResidualBlock& block : blocks_) h = block(h, training);
-  return ag::leaky_relu(bn_(h, training), kLeakySlope);
+  return bn_.activated(h, training);
+}
+
+Tensor ResidualStack::infer(const Tensor& x) const {
+  Tensor h = x;
+  Tensor activated = blocks_[0].first_norm().infer_leaky_relu(x);
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    const BatchNorm& next = i + 1 < blocks_.size() ? blocks_[i + 1].first_norm() : bn_;
+    Tensor next_activated;
+    h = blocks_[i].infer(h, activated, next, next_activated);
+    activated = next_activated;
+  }
+  return activated;  // leaky_relu(bn(h)): the stack's output
 }
 
 Decoder::Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_t channels,
@@ -29,6 +42,13 @@ Decoder::Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_
 
 ag::Variable Decoder::operator()(const ag::Variable& x, bool training) const {
   return out_(conv2_(conv1_(ag::upsample_bilinear2x(x), training), training));
+}
+
+Tensor Decoder::infer(const Tensor& x, ConvEpilogue::Activation last) const {
+  const Tensor h = conv2_.infer(conv1_.infer(ops::upsample_bilinear2x(x)));
+  ConvEpilogue e;
+  e.activation = last;
+  return out_.infer(h, e);
 }
 
 void PaperNetwork::build(Backend& be, const NetworkConfig& config) {
@@ -94,12 +114,36 @@ double PaperNetwork::forward_flops_per_image() const {
   return flops;
 }
 
+NetworkOutputs PaperNetwork::forward_fused(const Tensor& images) const {
+  const Tensor h = stem2_.infer(stem1_.infer(images));
+  ConvEpilogue down;
+  down.activation = ConvEpilogue::Activation::LeakyRelu;
+  down.slope = kLeakySlope;
+  const Tensor features = stem_down_.infer(h, down);
+  const Tensor albedo_features = albedo_residual_.infer(features);
+  const Tensor shape_features = shape_residual_.infer(features);
+
+  NetworkOutputs out;
+  out.albedo = ag::Variable(albedo_decoder_.infer(albedo_features, ConvEpilogue::Activation::Sigmoid));
+  const Tensor shape = shape_decoder_.infer(shape_features, ConvEpilogue::Activation::None);
+  out.normal = ag::Variable(ops::l2_normalize(ops::slice_channels(shape, 0, 3)));
+  out.visibility = ag::Variable(ops::slice_channels(shape, 3, 9));
+  const Tensor joint = ops::concat_channels({features, albedo_features, shape_features});
+  out.light = light_fc_(ag::Variable(ops::global_avg_pool(light_conv_.infer(joint))));
+  return out;
+}
+
 NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) {
   check(built_, "paper_network: forward() before build()");
   const Shape& s = images.shape();
   check(s.rank() == 4 && s.c() == 3 && s.h() == config_.input_size && s.w() == config_.input_size,
         "paper_network: expected images of shape [N, 3, ", config_.input_size, ", ",
         config_.input_size, "], got ", s.str());
+  // Evaluation that nothing will differentiate runs fused where the backend has fused ops;
+  // FACETOOL_PLAIN_OPS=1 (or ops::set_fused_paths_enabled(false)) keeps the plain path below.
+  if (!training && !images.requires_grad() && ops::fused_paths_enabled() &&
+      ops::backend_has_fused_ops(images.backend()))
+    return forward_fused(images.value());
   ag::Variable h = stem2_(stem1_(images, training), training);
   ag::Variable features = ag::leaky_relu(stem_down_(h), kLeakySlope);
   ag::Variable albedo_features = albedo_residual_(features, training);

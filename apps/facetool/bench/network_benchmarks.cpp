@@ -8,6 +8,7 @@
 
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
+#include "core/ops/ops.h"
 #include "core/train/adam_optimizer.h"
 
 namespace facetool {
@@ -58,9 +59,27 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
       if (r > 0) runs.push_back(ms / batch);  // run 0 warms caches and compiles kernels
     }
     const double per_image = median(runs);
-    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n", "forward (eval)", batch,
+    std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f\n", "forward (eval)", batch,
                   per_image, 1000.0 / per_image, gflop / (per_image / 1000.0));
     out << line << std::flush;
+    if (options.compare_plain) {
+      // The same forward on the plain ops (no folding or fusion): the reference path.
+      ops::set_fused_paths_enabled(false);
+      std::vector<double> plain;
+      for (int r = 0; r <= options.repeats; ++r) {
+        const double ms = time_ms(be, [&] {
+          NetworkOutputs o = net.forward(images, false);
+          o.light.value().to_host();
+        });
+        if (r > 0) plain.push_back(ms / batch);
+      }
+      ops::set_fused_paths_enabled(true);
+      const double plain_ms = median(plain);
+      std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f\n",
+                    "forward (eval, plain ops)", batch, plain_ms, 1000.0 / plain_ms,
+                    gflop / (plain_ms / 1000.0));
+      out << line << std::flush;
+    }
   }
   if (options.train_batch > 0) {
     const int batch = options.train_batch;
@@ -81,7 +100,7 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
       if (r > 0) runs.push_back(ms);
     }
     const double step_ms = median(runs);
-    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n",
+    std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f\n",
                   "training step (fwd+bwd+Adam)", batch, step_ms / batch, batch * 1000.0 / step_ms,
                   3.0 * gflop * batch / (step_ms / 1000.0));
     out << line << std::flush;
