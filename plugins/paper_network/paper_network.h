@@ -49,6 +49,7 @@ class PaperNetwork final : public NetworkPlugin {
   // Eval mode on the fused ops (core/ops/fused_ops.cpp): batch norms folded into the
   // convolutions, activations and residual additions in their epilogues, no autograd graph.
   NetworkOutputs forward_fused(const Tensor& images) const;
+  NetworkOutputs forward_fused_chunk(const Tensor& images) const;  // one chunk of images
 
   NetworkConfig config_;
   bool built_ = false;

@@ -50,30 +50,29 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
       << line;
   for (int batch : options.forward_batches) {
     ag::Variable images(random_images(be, batch, size, 1));
-    std::vector<double> runs;
-    for (int r = 0; r <= options.repeats; ++r) {
-      const double ms = time_ms(be, [&] {
+    auto forward_ms = [&] {
+      return time_ms(be, [&] {
         NetworkOutputs o = net.forward(images, false);
         o.light.value().to_host();
       });
+    };
+    // With compare_plain, the same forward on the plain ops (no folding or fusion, the
+    // reference path) alternates with the fused one (A B A B), so load changes hit both alike.
+    std::vector<double> runs, plain;
+    for (int r = 0; r <= options.repeats; ++r) {
+      const double ms = forward_ms();
       if (r > 0) runs.push_back(ms / batch);  // run 0 warms caches and compiles kernels
+      if (!options.compare_plain) continue;
+      ops::set_fused_paths_enabled(false);
+      const double plain_run = forward_ms();
+      ops::set_fused_paths_enabled(true);
+      if (r > 0) plain.push_back(plain_run / batch);
     }
     const double per_image = median(runs);
     std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f\n", "forward (eval)", batch,
                   per_image, 1000.0 / per_image, gflop / (per_image / 1000.0));
     out << line << std::flush;
     if (options.compare_plain) {
-      // The same forward on the plain ops (no folding or fusion): the reference path.
-      ops::set_fused_paths_enabled(false);
-      std::vector<double> plain;
-      for (int r = 0; r <= options.repeats; ++r) {
-        const double ms = time_ms(be, [&] {
-          NetworkOutputs o = net.forward(images, false);
-          o.light.value().to_host();
-        });
-        if (r > 0) plain.push_back(ms / batch);
-      }
-      ops::set_fused_paths_enabled(true);
       const double plain_ms = median(plain);
       std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f\n",
                     "forward (eval, plain ops)", batch, plain_ms, 1000.0 / plain_ms,
