@@ -17,6 +17,9 @@ average seen during the run and the ratios to each anchor.
 
 PyTorch runs with libjemalloc preloaded when it is installed (Debian: libjemalloc2): with glibc's
 allocator its training step pays page faults on every step (../shared/docs/performance-notes.md).
+PyTorch's OpenMP threads and ONNX Runtime's pool are told not to spin while they wait (the
+machines these figures come from are shared; spinning threads fight the other work for cores).
+facetool's pool always sleeps on a condition variable.
 """
 import argparse
 import json
@@ -34,12 +37,20 @@ JEMALLOC = "/usr/lib/x86_64-linux-gnu/libjemalloc.so.2"
 
 
 def median_ms(fn, repeats):
-    times = []
+    """Medians of the wall-clock and of the process CPU milliseconds (all threads) of fn()."""
+    wall, cpu = [], []
     for _ in range(repeats):
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         fn()
-        times.append(1000 * (time.perf_counter() - start))
-    return statistics.median(times)
+        wall.append(1000 * (time.perf_counter() - start))
+        cpu.append(1000 * (time.process_time() - cpu_start))
+    return statistics.median(wall), statistics.median(cpu)
+
+
+def record(result, key, timing, per):
+    """result[key] = wall ms / per, result["cpu_" + key] = CPU ms / per."""
+    result[key] = timing[0] / per
+    result["cpu_" + key] = timing[1] / per
 
 
 def torch_bench(args):
@@ -55,7 +66,7 @@ def torch_bench(args):
         for batch in (1, 20):
             x = torch.rand(batch, 3, args.size, args.size)
             net(x)
-            result[f"forward_b{batch}_ms"] = median_ms(lambda: net(x), args.repeats) / batch
+            record(result, f"forward_b{batch}_ms", median_ms(lambda: net(x), args.repeats), batch)
     net.train()
     opt = torch.optim.Adam(net.parameters(), lr=1e-4)
     x = torch.rand(20, 3, args.size, args.size)
@@ -68,7 +79,9 @@ def torch_bench(args):
         opt.step()
 
     step()
-    result["train_b20_images_per_s"] = 20000.0 / median_ms(step, max(2, args.repeats // 2))
+    wall, cpu = median_ms(step, max(2, args.repeats // 2))
+    result["train_b20_images_per_s"] = 20000.0 / wall
+    result["cpu_train_b20_ms"] = cpu / 20
     print(json.dumps(result))
 
 
@@ -95,14 +108,15 @@ def ort_bench(args):
     options = ort.SessionOptions()
     options.intra_op_num_threads = THREADS
     options.inter_op_num_threads = 1
+    options.add_session_config_entry("session.intra_op.allow_spinning", "0")  # as PyTorch's
     session = ort.InferenceSession(args.file, options, providers=["CPUExecutionProvider"])
     size = session.get_inputs()[0].shape[2]
     result = {"version": ort.__version__}
     for batch in (1, 20):
         x = np.random.rand(batch, 3, size, size).astype(np.float32)
         session.run(None, {"image": x})
-        result[f"forward_b{batch}_ms"] = median_ms(lambda: session.run(None, {"image": x}),
-                                                   args.repeats) / batch
+        record(result, f"forward_b{batch}_ms",
+               median_ms(lambda: session.run(None, {"image": x}), args.repeats), batch)
     print(json.dumps(result))
 
 
@@ -121,8 +135,8 @@ def openvino_bench(args):
         request = compiled.create_infer_request()
         x = np.random.rand(batch, 3, size, size).astype(np.float32)
         request.infer({0: x})
-        result[f"forward_b{batch}_ms"] = median_ms(lambda: request.infer({0: x}),
-                                                   args.repeats) / batch
+        record(result, f"forward_b{batch}_ms", median_ms(lambda: request.infer({0: x}),
+                                                         args.repeats), batch)
     print(json.dumps(result))
 
 
@@ -134,16 +148,18 @@ def facetool_bench(facetool, width, size, repeats):
     result = {}
     for line in out.splitlines():
         m = re.match(r"(forward \(eval\)|forward \(eval, plain ops\)|training step \S+)\s+(\d+)\s+"
-                     r"([\d.]+)\s+([\d.]+)", line)
+                     r"([\d.]+)\s+([\d.]+)\s+[\d.]+\s+([\d.]+)", line)
         if not m:
             continue
         kind, batch, ms, per_s = m.group(1), int(m.group(2)), float(m.group(3)), float(m.group(4))
+        cpu = float(m.group(5))
         if kind == "forward (eval)":
-            result[f"forward_b{batch}_ms"] = ms
+            result[f"forward_b{batch}_ms"], result[f"cpu_forward_b{batch}_ms"] = ms, cpu
         elif kind.startswith("forward"):
             result[f"plain_forward_b{batch}_ms"] = ms
+            result[f"cpu_plain_forward_b{batch}_ms"] = cpu
         else:
-            result["train_b20_images_per_s"] = per_s
+            result["train_b20_images_per_s"], result["cpu_train_b20_ms"] = per_s, cpu
     return result
 
 
@@ -155,7 +171,9 @@ def json_of(command, env=None):
 def run(args):
     me = os.path.abspath(__file__)
     venv_python = os.path.join(args.venv, "bin", "python3")
-    torch_env = dict(os.environ, OMP_NUM_THREADS=str(THREADS))
+    # OpenMP threads that sleep instead of spinning between parallel regions: on a machine
+    # shared with other work, spinning made PyTorch's batch-1 forward 100x slower here.
+    torch_env = dict(os.environ, OMP_NUM_THREADS=str(THREADS), OMP_WAIT_POLICY="PASSIVE")
     if os.path.exists(JEMALLOC):  # keeping freed memory, as docs/backends.md's PyTorch figures
         torch_env["LD_PRELOAD"] = JEMALLOC
         torch_env["MALLOC_CONF"] = "retain:true,dirty_decay_ms:-1,muzzy_decay_ms:-1"
@@ -219,6 +237,24 @@ def run(args):
         pt = med(width, size, "pytorch", "train_b20_images_per_s")
         ratio = f"facetool/PyTorch images/s {f / pt:.2f}" if f and pt else ""
         print(f"width {width:>3}, {size}x{size}, train b20 img/s  {f or 0:>9.2f} {'':>8} "
+              f"{pt or 0:>8.2f} {'':>8} {'':>9}   {ratio}")
+    print(f"\nprocess CPU time (all threads), ms per image: the work done, whatever the wait "
+          f"for a core")
+    print(header)
+    for width, size in sizes:
+        for batch in (1, 20):
+            key = f"cpu_forward_b{batch}_ms"
+            f = med(width, size, "facetool", key)
+            plain = med(width, size, "facetool", f"cpu_plain_forward_b{batch}_ms")
+            pt, ox, ov = (med(width, size, e, key) for e in ("pytorch", "onnxruntime", "openvino"))
+            ratios = "  ".join(f"{name} {f / a:.2f}" for name, a in
+                               (("PyTorch", pt), ("ORT", ox), ("OpenVINO", ov)) if a and f)
+            print(f"width {width:>3}, {size}x{size}, forward b{batch:<2} ms/img {f or 0:>9.2f} "
+                  f"{plain or 0:>8.2f} {pt or 0:>8.2f} {ox or 0:>8.2f} {ov or 0:>9.2f}   {ratios}")
+        f = med(width, size, "facetool", "cpu_train_b20_ms")
+        pt = med(width, size, "pytorch", "cpu_train_b20_ms")
+        ratio = f"facetool/PyTorch CPU ms {f / pt:.2f}" if f and pt else ""
+        print(f"width {width:>3}, {size}x{size}, train b20 ms/img  {f or 0:>9.2f} {'':>8} "
               f"{pt or 0:>8.2f} {'':>8} {'':>9}   {ratio}")
     json_path = os.path.join(tmp, "results.json")
     with open(json_path, "w") as out:

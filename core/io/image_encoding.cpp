@@ -4,7 +4,6 @@
 #include <OpenImageIO/filesystem.h>
 
 #include "core/util/error.h"
-#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -13,7 +12,6 @@ namespace OIIO = OIIO_NAMESPACE;
 std::vector<unsigned char> encode_image(const std::string& path, const char* format,
                                         const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
                                         const void* pixels) {
-  StageTimer timer("encode");
   auto output = OIIO::ImageOutput::create(format);
   check(output != nullptr, "cannot write '", path, "': OpenImageIO has no ", format,
         " writer (", OIIO::geterror(), ")");
