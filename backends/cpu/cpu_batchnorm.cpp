@@ -89,6 +89,53 @@ void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
   });
 }
 
+// One plane's sum(g) and sum(g * xhat), g = dy (times the leaky ReLU's derivative read from the
+// activation's output `a` when kActivated), in 16 float lanes so the loop vectorises.
+template <bool kActivated>
+void plane_sums(const float* in, const float* dy, const float* a, int64_t m, float mean,
+                float invstd, float slope, double& sum_dy, double& sum_dy_xhat) {
+  constexpr int kLanes = 16;
+  float lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
+  int64_t i = 0;
+  for (; i + kLanes <= m; i += kLanes) {
+    for (int l = 0; l < kLanes; ++l) {
+      float g = dy[i + l];
+      if (kActivated) g = a[i + l] > 0.0f ? g : slope * g;
+      lanes_dy[l] += g;
+      lanes_dy_xhat[l] += g * ((in[i + l] - mean) * invstd);
+    }
+  }
+  double total_dy = 0.0, total_dy_xhat = 0.0;
+  for (; i < m; ++i) {
+    float g = dy[i];
+    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
+    total_dy += g;
+    total_dy_xhat += g * ((in[i] - mean) * invstd);
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    total_dy += lanes_dy[l];
+    total_dy_xhat += lanes_dy_xhat[l];
+  }
+  sum_dy += total_dy;
+  sum_dy_xhat += total_dy_xhat;
+}
+
+// One plane of dx (+)= scale * (g - mean_dy - xhat * mean_dy_xhat).
+template <bool kActivated, bool kAccumulate>
+void plane_dx(const float* __restrict in, const float* __restrict dy, const float* __restrict a,
+              int64_t m, float mean, float invstd, float slope, float scale, float mean_dy,
+              float mean_dy_xhat, float* __restrict out) {
+  for (int64_t i = 0; i < m; ++i) {
+    float g = dy[i];
+    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
+    const float value = scale * (g - mean_dy - (in[i] - mean) * invstd * mean_dy_xhat);
+    if (kAccumulate)
+      out[i] += value;
+    else
+      out[i] = value;
+  }
+}
+
 // The batch norm's backward; with `activated` (the output of the fused leaky ReLU of `slope`),
 // dy is first multiplied by the activation's derivative, element by element as it is read.
 void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save_mean,
@@ -107,11 +154,6 @@ void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save
   float* pdg = dgamma ? ptr(*dgamma) : nullptr;
   float* pdb = dbeta ? ptr(*dbeta) : nullptr;
   const float* pa = activated ? ptr(*activated) : nullptr;
-  // dy, times the leaky ReLU's derivative (1 where its output is positive, else slope).
-  auto grad = [pa, slope](const float* g, int64_t offset, int64_t i) {
-    if (!pa) return g[i];
-    return pa[offset + i] > 0.0f ? g[i] : slope * g[i];
-  };
   parallel_for(s.c(), 1, [&](int64_t begin, int64_t end) {
     for (int64_t c = begin; c < end; ++c) {
       const float mean = psm[c];
@@ -120,16 +162,12 @@ void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save
       double sum_dy = 0.0, sum_dy_xhat = 0.0;
       for (int64_t n = 0; n < s.n(); ++n) {
         const int64_t offset = (n * s.c() + c) * plane;
-        const float* in = px + offset;
-        const float* g = pdy + offset;
-        float plane_dy = 0.0f, plane_dy_xhat = 0.0f;
-        for (int64_t i = 0; i < plane; ++i) {
-          const float gi = grad(g, offset, i);
-          plane_dy += gi;
-          plane_dy_xhat += gi * (in[i] - mean) * invstd;
-        }
-        sum_dy += plane_dy;
-        sum_dy_xhat += plane_dy_xhat;
+        if (pa)
+          plane_sums<true>(px + offset, pdy + offset, pa + offset, plane, mean, invstd, slope,
+                           sum_dy, sum_dy_xhat);
+        else
+          plane_sums<false>(px + offset, pdy + offset, nullptr, plane, mean, invstd, slope,
+                            sum_dy, sum_dy_xhat);
       }
       if (pdb) store(pdb[c], static_cast<float>(sum_dy), accumulate);
       if (pdg) store(pdg[c], static_cast<float>(sum_dy_xhat), accumulate);
@@ -139,14 +177,20 @@ void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save
       const float mean_dy = p.training ? static_cast<float>(sum_dy / count) : 0.0f;
       const float mean_dy_xhat = p.training ? static_cast<float>(sum_dy_xhat / count) : 0.0f;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const int64_t offset = (n * s.c() + c) * plane;
-        const float* in = px + offset;
-        const float* g = pdy + offset;
-        float* out = pdx + offset;
-        for (int64_t i = 0; i < plane; ++i) {
-          const float xhat = (in[i] - mean) * invstd;
-          store(out[i], scale * (grad(g, offset, i) - mean_dy - xhat * mean_dy_xhat), accumulate);
-        }
+        const int64_t o = (n * s.c() + c) * plane;
+        const float* a = pa ? pa + o : nullptr;
+        if (pa && accumulate)
+          plane_dx<true, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                               mean_dy_xhat, pdx + o);
+        else if (pa)
+          plane_dx<true, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                mean_dy_xhat, pdx + o);
+        else if (accumulate)
+          plane_dx<false, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                mean_dy_xhat, pdx + o);
+        else
+          plane_dx<false, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                 mean_dy_xhat, pdx + o);
       }
     }
   });

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <random>
 
 #include "backends/cpu/cpu_backend_impl.h"
@@ -32,6 +33,13 @@ std::vector<Layer> network_layers(int64_t c, int64_t s) {
           {"light.layer1 1x1", 3 * c, c, 1, 1, s / 2, 1}};
 }
 
+// CPU time of the whole process (all threads), in seconds.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -48,13 +56,14 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       << ", median of " << options.repeats << " (ms per call, GFLOP/s; * = fastest)\n";
   char line[256];
   std::snprintf(line, sizeof line, "%-26s %5s %-22s %10s %10s %10s  %s\n", "layer", "batch",
-                "shape", "im2col", "winograd", "dnnl", "GFLOP/s of the fastest");
+                "shape", "im2col", "winograd", "dnnl",
+                "fastest: GFLOP/s, and per core of CPU time");
   out << line;
   std::vector<std::pair<std::string, cpu::ConvAlgorithm>> winners;
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> dist(-1.0f, 1.0f);
   for (const int64_t batch : options.batches) {
-    double total_best = 0.0, total_default = 0.0, total_flops = 0.0;
+    double total_best = 0.0, total_best_cpu = 0.0, total_default = 0.0, total_flops = 0.0;
     for (const Layer& layer : network_layers(options.width, options.input_size)) {
       cpu::ConvGeometry g;
       g.channels = layer.in;
@@ -69,23 +78,28 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       for (float& v : x) v = dist(rng);
       for (float& v : w) v = dist(rng);
       const double flops = 2.0 * batch * layer.out * g.pixels() * g.rows();
-      double times[3] = {0, 0, 0};
+      double times[3] = {0, 0, 0}, cpu_times[3] = {0, 0, 0};
       double best = 1e30;
       cpu::ConvAlgorithm best_algorithm = cpu::ConvAlgorithm::Im2col;
       for (cpu::ConvAlgorithm a : cpu::applicable_conv_algorithms(g, layer.out)) {
-        std::vector<double> runs;
+        std::vector<double> runs, cpu_runs;
         bool ran = true;
         for (int r = 0; r <= options.repeats && ran; ++r) {
+          const double cpu0 = process_cpu_seconds();
           const auto start = std::chrono::steady_clock::now();
           ran = cpu_backend->convolve_with(a, g, batch, layer.out, x.data(), w.data(), y.data(),
                                            nullptr);
           const double s =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          if (r > 0) runs.push_back(s);  // run 0 warms caches and creates oneDNN's primitive
+          if (r > 0) {  // run 0 warms caches and creates oneDNN's primitive
+            runs.push_back(s);
+            cpu_runs.push_back(process_cpu_seconds() - cpu0);
+          }
         }
         if (!ran) continue;
         const double t = median(runs);
         times[static_cast<int>(a)] = t;
+        cpu_times[static_cast<int>(a)] = median(cpu_runs);
         if (t < best) {
           best = t;
           best_algorithm = a;
@@ -94,6 +108,7 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       winners.emplace_back(cpu::conv_shape_key(g, batch, layer.out), best_algorithm);
       const double default_time = times[static_cast<int>(cpu::default_conv_algorithm(g, layer.out))];
       total_best += layer.count * best;
+      total_best_cpu += layer.count * cpu_times[static_cast<int>(best_algorithm)];
       total_default += layer.count * default_time;
       total_flops += layer.count * flops;
       auto cell = [&](int a) {
@@ -107,16 +122,19 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       std::snprintf(shape, sizeof shape, "%lldx%lld %lld->%lld", static_cast<long long>(layer.size),
                     static_cast<long long>(layer.size), static_cast<long long>(layer.in),
                     static_cast<long long>(layer.out));
-      std::snprintf(line, sizeof line, "%-26s %5lld %-22s %10s %10s %10s  %.1f\n", layer.name,
-                    static_cast<long long>(batch), shape, cell(0).c_str(), cell(1).c_str(),
-                    cell(2).c_str(), flops / best / 1e9);
+      std::snprintf(line, sizeof line, "%-26s %5lld %-22s %10s %10s %10s  %.1f, %.1f\n",
+                    layer.name, static_cast<long long>(batch), shape, cell(0).c_str(),
+                    cell(1).c_str(), cell(2).c_str(), flops / best / 1e9,
+                    flops / cpu_times[static_cast<int>(best_algorithm)] / 1e9);
       out << line;
     }
     std::snprintf(line, sizeof line,
                   "all convolutions, batch %lld: %.3f GFLOP/image; fastest per layer %.2f ms/image "
-                  "(%.1f GFLOP/s), default rule %.2f ms/image\n",
+                  "(%.1f GFLOP/s; %.2f CPU ms/image, %.1f GFLOP/s per core), default rule %.2f "
+                  "ms/image\n",
                   static_cast<long long>(batch), total_flops / batch / 1e9,
                   1e3 * total_best / batch, total_flops / total_best / 1e9,
+                  1e3 * total_best_cpu / batch, total_flops / total_best_cpu / 1e9,
                   1e3 * total_default / batch);
     out << line;
   }
