@@ -17,6 +17,7 @@ packages=(
   python3-pytest  # tests only: the Python module's tests (tests/python)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
   python3-numpy python3-openimageio  # the Yale B normal benchmark (scripts/yaleb_benchmark.py; its test needs numpy only)
+  libjemalloc2   # benchmarks only: preloaded under PyTorch by scripts/bench-anchors.py (allocator)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)
 )
 

@@ -11,6 +11,8 @@
 namespace facetool::cpu {
 
 struct ConvGeometry;  // cpu_im2col.h
+struct Epilogue;      // cpu_epilogue.h
+enum class ConvAlgorithm;  // cpu_conv_choice.h
 
 class CpuBackend final : public Backend {
  public:
@@ -60,6 +62,16 @@ class CpuBackend final : public Backend {
                            const Tensor& save_invstd, const Tensor& dy, const Tensor* dx,
                            const Tensor* dgamma, const Tensor* dbeta, const BatchNormParams& p,
                            bool accumulate) override;
+  bool batch_norm_leaky_relu(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                             const Tensor& running_mean, const Tensor& running_var,
+                             const Tensor& save_mean, const Tensor& save_invstd, float slope,
+                             const Tensor& y, const BatchNormParams& p) override;
+  bool batch_norm_leaky_relu_backward(const Tensor& x, const Tensor& gamma,
+                                      const Tensor& save_mean, const Tensor& save_invstd,
+                                      const Tensor& y, float slope, const Tensor& dy,
+                                      const Tensor* dx, const Tensor* dgamma,
+                                      const Tensor* dbeta, const BatchNormParams& p,
+                                      bool accumulate) override;
   void l2_normalize(const Tensor& x, float eps, const Tensor& y) override;
   void l2_normalize_backward(const Tensor& x, float eps, const Tensor& dy, const Tensor& dx,
                              bool accumulate) override;
@@ -84,6 +96,18 @@ class CpuBackend final : public Backend {
   // optimiser (cpu_adam.cpp)
   void adam_step(const Tensor& param, const Tensor& grad, const Tensor& m, const Tensor& v,
                  const AdamParams& p) override;
+  void adam_step_all(const std::vector<AdamTensors>& tensors, const AdamParams& p) override;
+
+  // fused inference (cpu_conv_fused.cpp): the algorithm of cpu_conv_choice.h, epilogue inside
+  bool conv2d_fused(const Tensor& x, const Tensor& w, const Tensor& y, const Conv2dParams& p,
+                    const ConvEpilogue& e) override;
+  bool channel_affine_leaky_relu(const Tensor& x, const Tensor& scale, const Tensor& shift,
+                                 float slope, const Tensor& y) override;
+  // y = conv(x, w) then the epilogue (nullptr: none) by one given algorithm; false when it does
+  // not apply to the shape. For benchmarks and tests that compare the algorithms.
+  bool convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, int64_t batch,
+                     int64_t out_channels, const float* x, const float* w, float* y,
+                     const Epilogue* epilogue);
 
   // plugin kernels (cpu_custom_kernel.cpp)
   void launch(const CustomKernel& kernel, const std::string& entry, int64_t work_items,

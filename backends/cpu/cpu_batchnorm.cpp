@@ -28,12 +28,11 @@ double lane_sum(const float* v, int64_t m, Term term) {
   return total;
 }
 
-}  // namespace
-
-void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
-                            const Tensor& running_mean, const Tensor& running_var,
-                            const Tensor& save_mean, const Tensor& save_invstd, const Tensor& y,
-                            const BatchNormParams& p) {
+// The batch norm, followed by a leaky ReLU of `slope` when `leaky`, in the same pass.
+void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+               const Tensor& running_mean, const Tensor& running_var, const Tensor& save_mean,
+               const Tensor& save_invstd, const Tensor& y, const BatchNormParams& p, bool leaky,
+               float slope) {
   const Shape& s = x.shape();
   const int64_t count = s.n() * s.h() * s.w();
   const int64_t plane = s.h() * s.w();
@@ -77,17 +76,72 @@ void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& 
       for (int64_t n = 0; n < s.n(); ++n) {
         const float* in = px + (n * s.c() + c) * plane;
         float* out = py + (n * s.c() + c) * plane;
-        for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
+        if (leaky) {
+          for (int64_t i = 0; i < plane; ++i) {
+            const float v = in[i] * a + b;
+            out[i] = v > 0.0f ? v : slope * v;
+          }
+        } else {
+          for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
+        }
       }
     }
   });
 }
 
-void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
-                                     const Tensor& save_mean, const Tensor& save_invstd,
-                                     const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
-                                     const Tensor* dbeta, const BatchNormParams& p,
-                                     bool accumulate) {
+// One plane's sum(g) and sum(g * xhat), g = dy (times the leaky ReLU's derivative read from the
+// activation's output `a` when kActivated), in 16 float lanes so the loop vectorises.
+template <bool kActivated>
+void plane_sums(const float* in, const float* dy, const float* a, int64_t m, float mean,
+                float invstd, float slope, double& sum_dy, double& sum_dy_xhat) {
+  constexpr int kLanes = 16;
+  float lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
+  int64_t i = 0;
+  for (; i + kLanes <= m; i += kLanes) {
+    for (int l = 0; l < kLanes; ++l) {
+      float g = dy[i + l];
+      if (kActivated) g = a[i + l] > 0.0f ? g : slope * g;
+      lanes_dy[l] += g;
+      lanes_dy_xhat[l] += g * ((in[i + l] - mean) * invstd);
+    }
+  }
+  double total_dy = 0.0, total_dy_xhat = 0.0;
+  for (; i < m; ++i) {
+    float g = dy[i];
+    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
+    total_dy += g;
+    total_dy_xhat += g * ((in[i] - mean) * invstd);
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    total_dy += lanes_dy[l];
+    total_dy_xhat += lanes_dy_xhat[l];
+  }
+  sum_dy += total_dy;
+  sum_dy_xhat += total_dy_xhat;
+}
+
+// One plane of dx (+)= scale * (g - mean_dy - xhat * mean_dy_xhat).
+template <bool kActivated, bool kAccumulate>
+void plane_dx(const float* __restrict in, const float* __restrict dy, const float* __restrict a,
+              int64_t m, float mean, float invstd, float slope, float scale, float mean_dy,
+              float mean_dy_xhat, float* __restrict out) {
+  for (int64_t i = 0; i < m; ++i) {
+    float g = dy[i];
+    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
+    const float value = scale * (g - mean_dy - (in[i] - mean) * invstd * mean_dy_xhat);
+    if (kAccumulate)
+      out[i] += value;
+    else
+      out[i] = value;
+  }
+}
+
+// The batch norm's backward; with `activated` (the output of the fused leaky ReLU of `slope`),
+// dy is first multiplied by the activation's derivative, element by element as it is read.
+void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save_mean,
+                        const Tensor& save_invstd, const Tensor& dy, const Tensor* activated,
+                        float slope, const Tensor* dx, const Tensor* dgamma, const Tensor* dbeta,
+                        const BatchNormParams& p, bool accumulate) {
   const Shape& s = x.shape();
   const int64_t count = s.n() * s.h() * s.w();
   const int64_t plane = s.h() * s.w();
@@ -99,6 +153,7 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
   float* pdx = dx ? ptr(*dx) : nullptr;
   float* pdg = dgamma ? ptr(*dgamma) : nullptr;
   float* pdb = dbeta ? ptr(*dbeta) : nullptr;
+  const float* pa = activated ? ptr(*activated) : nullptr;
   parallel_for(s.c(), 1, [&](int64_t begin, int64_t end) {
     for (int64_t c = begin; c < end; ++c) {
       const float mean = psm[c];
@@ -106,15 +161,13 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
       // sum(dy) and sum(dy * xhat) over the channel.
       double sum_dy = 0.0, sum_dy_xhat = 0.0;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const float* in = px + (n * s.c() + c) * plane;
-        const float* g = pdy + (n * s.c() + c) * plane;
-        float plane_dy = 0.0f, plane_dy_xhat = 0.0f;
-        for (int64_t i = 0; i < plane; ++i) {
-          plane_dy += g[i];
-          plane_dy_xhat += g[i] * (in[i] - mean) * invstd;
-        }
-        sum_dy += plane_dy;
-        sum_dy_xhat += plane_dy_xhat;
+        const int64_t offset = (n * s.c() + c) * plane;
+        if (pa)
+          plane_sums<true>(px + offset, pdy + offset, pa + offset, plane, mean, invstd, slope,
+                           sum_dy, sum_dy_xhat);
+        else
+          plane_sums<false>(px + offset, pdy + offset, nullptr, plane, mean, invstd, slope,
+                            sum_dy, sum_dy_xhat);
       }
       if (pdb) store(pdb[c], static_cast<float>(sum_dy), accumulate);
       if (pdg) store(pdg[c], static_cast<float>(sum_dy_xhat), accumulate);
@@ -124,16 +177,60 @@ void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
       const float mean_dy = p.training ? static_cast<float>(sum_dy / count) : 0.0f;
       const float mean_dy_xhat = p.training ? static_cast<float>(sum_dy_xhat / count) : 0.0f;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const float* in = px + (n * s.c() + c) * plane;
-        const float* g = pdy + (n * s.c() + c) * plane;
-        float* out = pdx + (n * s.c() + c) * plane;
-        for (int64_t i = 0; i < plane; ++i) {
-          const float xhat = (in[i] - mean) * invstd;
-          store(out[i], scale * (g[i] - mean_dy - xhat * mean_dy_xhat), accumulate);
-        }
+        const int64_t o = (n * s.c() + c) * plane;
+        const float* a = pa ? pa + o : nullptr;
+        if (pa && accumulate)
+          plane_dx<true, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                               mean_dy_xhat, pdx + o);
+        else if (pa)
+          plane_dx<true, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                mean_dy_xhat, pdx + o);
+        else if (accumulate)
+          plane_dx<false, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                mean_dy_xhat, pdx + o);
+        else
+          plane_dx<false, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
+                                 mean_dy_xhat, pdx + o);
       }
     }
   });
+}
+
+}  // namespace
+
+void CpuBackend::batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                            const Tensor& running_mean, const Tensor& running_var,
+                            const Tensor& save_mean, const Tensor& save_invstd, const Tensor& y,
+                            const BatchNormParams& p) {
+  normalize(x, gamma, beta, running_mean, running_var, save_mean, save_invstd, y, p, false, 0.0f);
+}
+
+bool CpuBackend::batch_norm_leaky_relu(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                                       const Tensor& running_mean, const Tensor& running_var,
+                                       const Tensor& save_mean, const Tensor& save_invstd,
+                                       float slope, const Tensor& y, const BatchNormParams& p) {
+  normalize(x, gamma, beta, running_mean, running_var, save_mean, save_invstd, y, p, true, slope);
+  return true;
+}
+
+void CpuBackend::batch_norm_backward(const Tensor& x, const Tensor& gamma,
+                                     const Tensor& save_mean, const Tensor& save_invstd,
+                                     const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
+                                     const Tensor* dbeta, const BatchNormParams& p,
+                                     bool accumulate) {
+  normalize_backward(x, gamma, save_mean, save_invstd, dy, nullptr, 0.0f, dx, dgamma, dbeta, p,
+                     accumulate);
+}
+
+bool CpuBackend::batch_norm_leaky_relu_backward(const Tensor& x, const Tensor& gamma,
+                                                const Tensor& save_mean,
+                                                const Tensor& save_invstd, const Tensor& y,
+                                                float slope, const Tensor& dy, const Tensor* dx,
+                                                const Tensor* dgamma, const Tensor* dbeta,
+                                                const BatchNormParams& p, bool accumulate) {
+  normalize_backward(x, gamma, save_mean, save_invstd, dy, &y, slope, dx, dgamma, dbeta, p,
+                     accumulate);
+  return true;
 }
 
 }  // namespace facetool::cpu

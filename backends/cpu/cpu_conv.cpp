@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "backends/cpu/cpu_backend_impl.h"
+#include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_im2col.h"
 #include "backends/cpu/cpu_winograd.h"
 #include "backends/cpu/cpu_workspace.h"
@@ -45,13 +46,27 @@ int64_t pixel_block(const ConvGeometry& g, int64_t block_floats) {
 
 int64_t ceil_div(int64_t a, int64_t b) { return (a + b - 1) / b; }
 
+// The forward's pixel block: pixel_block(), cut smaller (not under 64 pixels) when a small batch
+// would otherwise leave threads without a task (batch 1 at 32x32 was one block, one thread).
+int64_t forward_pixel_block(const ConvGeometry& g, int64_t batch) {
+  const int64_t block = pixel_block(g, kForwardBlockFloats);
+  const int64_t threads = parallel_thread_count();
+  if (batch * ceil_div(g.pixels(), block) >= threads) return block;
+  const int64_t wanted = ceil_div(g.pixels(), ceil_div(threads, batch));
+  return std::min(block, std::max<int64_t>(64, ceil_div(wanted, 16) * 16));
+}
+
+}  // namespace
+
 // y (+)= conv(x, w) (+ bias) over raw NCHW arrays with geometry g: one task per (image, pixel
-// block), y[n][:, block] = w [Co, K] * col [K, block] (beta = 1 when accumulating).
-void convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels, const float* px,
-              const float* pw, const float* pb, float* py, bool accumulate) {
+// block), y[n][:, block] = w [Co, K] * col [K, block] (beta = 1 when accumulating); with an
+// epilogue, each task applies it to its block.
+void im2col_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels, const float* px,
+                     const float* pw, const float* pb, float* py, bool accumulate,
+                     const Epilogue* epilogue) {
   const int64_t rows = g.rows();
   const int64_t pixels = g.pixels();
-  const int64_t block = pixel_block(g, kForwardBlockFloats);
+  const int64_t block = forward_pixel_block(g, batch);
   const int64_t blocks = ceil_div(pixels, block);
   const bool pointwise = is_pointwise(g);
   const float beta = accumulate ? 1.0f : 0.0f;
@@ -77,11 +92,11 @@ void convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels, const 
           for (int64_t j = 0; j < count; ++j) row[j] += pb[co];
         }
       }
+      if (epilogue)
+        for (int64_t co = 0; co < out_channels; ++co) epilogue->apply(py, n, co, p0, count);
     }
   });
 }
-
-}  // namespace
 
 // y (+)= conv(x, w) (+ bias): Winograd where it applies, im2col + SGEMM otherwise.
 void CpuBackend::convolve_any(const ConvGeometry& g, int64_t batch, int64_t out_channels,
@@ -91,7 +106,7 @@ void CpuBackend::convolve_any(const ConvGeometry& g, int64_t batch, int64_t out_
     Scratch transformed = scratch(winograd_weight_floats(g, out_channels));
     winograd_convolve(g, batch, out_channels, x, w, bias, y, accumulate, transformed.data());
   } else {
-    convolve(g, batch, out_channels, x, w, bias, y, accumulate);
+    im2col_convolve(g, batch, out_channels, x, w, bias, y, accumulate, nullptr);
   }
 }
 

@@ -306,19 +306,31 @@ TaskBuffers task_buffers(int64_t channels, int64_t out_channels) {
 // The tiles of a convolution's output: 4x4 each, row-major within an image, cut into tasks of
 // kTilesPerTask tiles that never span two images.
 struct Tiling {
-  int64_t tiles_x, tiles, tasks_per_image;
-  explicit Tiling(const ConvGeometry& g)
+  int64_t tiles_x, tiles, per_task, tasks_per_image;
+  // per_task <= kTilesPerTask tiles per task (fewer give small batches more tasks than threads).
+  explicit Tiling(const ConvGeometry& g, int64_t per_task_tiles = kTilesPerTask)
       : tiles_x((g.out_width + kTile - 1) / kTile),
         tiles(tiles_x * ((g.out_height + kTile - 1) / kTile)),
-        tasks_per_image((tiles + kTilesPerTask - 1) / kTilesPerTask) {}
+        per_task(std::clamp<int64_t>(per_task_tiles, 1, kTilesPerTask)),
+        tasks_per_image((tiles + per_task - 1) / per_task) {}
   TileRange task(int64_t t) const {
     TileRange r;
     r.n = t / tasks_per_image;
-    r.first = (t % tasks_per_image) * kTilesPerTask;
-    r.count = std::min(kTilesPerTask, tiles - r.first);
+    r.first = (t % tasks_per_image) * per_task;
+    r.count = std::min(per_task, tiles - r.first);
     return r;
   }
 };
+
+// Tiles per forward task: kTilesPerTask, or fewer (not under 16) when the batch would otherwise
+// give fewer tasks than threads (batch 1 of a 32x32 output is 64 tiles: one task, one thread).
+int64_t forward_tiles_per_task(const ConvGeometry& g, int64_t batch) {
+  const Tiling whole(g);
+  const int64_t threads = parallel_thread_count();
+  if (batch * whole.tasks_per_image >= threads) return kTilesPerTask;
+  const int64_t tasks_wanted = (threads + batch - 1) / batch;
+  return std::max<int64_t>(16, (whole.tiles + tasks_wanted - 1) / tasks_wanted);
+}
 
 // b.v[xi][c][j] = (B^T patch B)[xi] of tile j for every input channel c of image r.n.
 void transform_input_tiles(const ConvGeometry& g, const Tiling& t, const float* x,
@@ -363,11 +375,11 @@ size_t winograd_weight_floats(const ConvGeometry& g, int64_t out_channels) {
 
 void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels,
                        const float* x, const float* w, const float* bias, float* y,
-                       bool accumulate, float* transformed_weights) {
+                       bool accumulate, float* transformed_weights, const Epilogue* epilogue) {
   const int64_t channels = g.channels;
   const int64_t out_plane = g.out_height * g.out_width;
   const int64_t T = kTilesPerTask;  // stride between the vectors of one tile value
-  const Tiling tiling(g);
+  const Tiling tiling(g, forward_tiles_per_task(g, batch));
   transform_weights(out_channels, channels, w, transformed_weights);
   const float* u = transformed_weights;
 
@@ -391,6 +403,13 @@ void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channel
           output_transform(b.half + a * kPatch * T, T, tile_values + a * kTile * T, T, r.count);
         scatter_tiles(g, tiling.tiles_x, tile_values, T, r, bias ? bias[co] : 0.0f,
                       y + (r.n * out_channels + co) * out_plane, accumulate);
+        if (epilogue) {  // the pixels this task just wrote, row by row
+          for_each_tile_row(r, tiling.tiles_x, [&](int64_t, int64_t ty, int64_t tx0, int64_t tx1) {
+            const int64_t x0 = tx0 * kTile, x1 = std::min(g.out_width, tx1 * kTile);
+            for (int64_t oy = ty * kTile; oy < std::min(g.out_height, (ty + 1) * kTile); ++oy)
+              epilogue->apply(y, r.n, co, oy * g.out_width + x0, x1 - x0);
+          });
+        }
       }
     }
   });

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "backends/cpu/cpu_epilogue.h"
 #include "backends/cpu/cpu_im2col.h"
 
 namespace facetool::cpu {
@@ -18,10 +19,12 @@ size_t winograd_weight_floats(const ConvGeometry& g, int64_t out_channels);
 // y (+)= conv(x, w) (+ bias) over raw NCHW arrays, like the im2col path, computed as
 // y_tile = A^T [ (G w G^T) .* (B^T x_tile B) ] A over 4x4 output tiles: the element-wise product
 // summed over input channels is 36 GEMMs [Co, Ci] x [Ci, tiles]. `transformed_weights` is
-// scratch of winograd_weight_floats() floats.
+// scratch of winograd_weight_floats() floats. With `epilogue`, each task applies it to the
+// output pixels it wrote (bias nullptr and accumulate false then).
 void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels,
                        const float* x, const float* w, const float* bias, float* y,
-                       bool accumulate, float* transformed_weights);
+                       bool accumulate, float* transformed_weights,
+                       const Epilogue* epilogue = nullptr);
 
 // Floats winograd_weight_gradient needs in `partials`: one set of 36 [Co, Ci] sums per thread.
 size_t winograd_weight_gradient_floats(const ConvGeometry& g, int64_t out_channels);

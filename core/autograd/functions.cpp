@@ -136,6 +136,24 @@ Variable batch_norm(const Variable& x, const Variable& gamma, const Variable& be
                      });
 }
 
+Variable batch_norm_leaky_relu(const Variable& x, const Variable& gamma, const Variable& beta,
+                               const Tensor& running_mean, const Tensor& running_var,
+                               const BatchNormParams& p, float slope) {
+  // Synchronised statistics (distributed training) and the plain-ops switch compose.
+  if ((p.training && batch_norm_statistics_sum()) || !ops::fused_paths_enabled())
+    return leaky_relu(batch_norm(x, gamma, beta, running_mean, running_var, p), slope);
+  Tensor xv = x.value(), gv = gamma.value();
+  ops::BatchNormSaved saved;
+  Tensor y = ops::batch_norm_leaky_relu(xv, gv, beta.value(), running_mean, running_var, p,
+                                        slope, &saved);
+  return make_result(y, "batch_norm_leaky_relu", {x, gamma, beta},
+                     [xv, gv, saved, y, p, slope](const Tensor& g, const Targets& t) {
+                       const bool acc = unify_accumulate(t);
+                       ops::batch_norm_leaky_relu_backward(xv, gv, saved, y, slope, g, out(t, 0),
+                                                           out(t, 1), out(t, 2), p, acc);
+                     });
+}
+
 Variable l2_normalize(const Variable& x, float eps) {
   Tensor xv = x.value();
   return make_result(ops::l2_normalize(xv, eps), "l2_normalize", {x},

@@ -24,6 +24,10 @@ Variable linear(const Variable& x, const Variable& w, const Variable& bias);
 Variable batch_norm(const Variable& x, const Variable& gamma, const Variable& beta,
                     const Tensor& running_mean, const Tensor& running_var,
                     const BatchNormParams& p);
+// leaky_relu(batch_norm(x), slope), fused where the backend can (slope > 0).
+Variable batch_norm_leaky_relu(const Variable& x, const Variable& gamma, const Variable& beta,
+                               const Tensor& running_mean, const Tensor& running_var,
+                               const BatchNormParams& p, float slope);
 Variable l2_normalize(const Variable& x, float eps = 1e-12f);
 Variable upsample_bilinear2x(const Variable& x);
 Variable global_avg_pool(const Variable& x);

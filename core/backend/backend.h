@@ -11,6 +11,27 @@
 
 namespace facetool {
 
+// What a fused convolution does after the multiply-adds, per output value of channel c
+// (nullptr members are skipped):
+//   v  = scale[c] * conv(x, w) + shift[c]     (scale nullptr: 1; shift nullptr: 0)
+//   v += residual                              (same shape as the output)
+//   y  = activation(v)
+//   y2 = leaky_relu(post_scale[c] * y + post_shift[c], post_slope)   (when y2 is given)
+// A batch norm in eval mode after the convolution becomes scale/shift (it is folded in); the
+// second output is the next layer's batch norm + leaky ReLU (the residual blocks' pre-activation).
+struct ConvEpilogue {
+  enum class Activation { None, LeakyRelu, Sigmoid };
+  const Tensor* scale = nullptr;     // [Co]
+  const Tensor* shift = nullptr;     // [Co]
+  const Tensor* residual = nullptr;  // [N, Co, Ho, Wo]
+  Activation activation = Activation::None;
+  float slope = 0.0f;                // of Activation::LeakyRelu
+  const Tensor* y2 = nullptr;        // [N, Co, Ho, Wo]
+  const Tensor* post_scale = nullptr;  // [Co], required with y2
+  const Tensor* post_shift = nullptr;  // [Co], required with y2
+  float post_slope = 0.0f;
+};
+
 // Every method below receives tensors already checked by core/ops (shapes agree, all tensors
 // live on this backend, nothing is empty), so an implementation only computes.
 //
@@ -85,6 +106,23 @@ class Backend {
                                    const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
                                    const Tensor* dbeta, const BatchNormParams& p,
                                    bool accumulate) = 0;
+  // Optional fusions (default false: core/ops composes the ops above instead). With slope > 0:
+  // y = leaky_relu(batch_norm(x), slope) in one pass (statistics as batch_norm), and its
+  // backward from the forward output y (whose sign is the pre-activation's).
+  virtual bool batch_norm_leaky_relu(const Tensor& /*x*/, const Tensor& /*gamma*/,
+                                     const Tensor& /*beta*/, const Tensor& /*running_mean*/,
+                                     const Tensor& /*running_var*/, const Tensor& /*save_mean*/,
+                                     const Tensor& /*save_invstd*/, float /*slope*/,
+                                     const Tensor& /*y*/, const BatchNormParams& /*p*/) {
+    return false;
+  }
+  virtual bool batch_norm_leaky_relu_backward(
+      const Tensor& /*x*/, const Tensor& /*gamma*/, const Tensor& /*save_mean*/,
+      const Tensor& /*save_invstd*/, const Tensor& /*y*/, float /*slope*/, const Tensor& /*dy*/,
+      const Tensor* /*dx*/, const Tensor* /*dgamma*/, const Tensor* /*dbeta*/,
+      const BatchNormParams& /*p*/, bool /*accumulate*/) {
+    return false;
+  }
   // y = x / max(||x||_2, eps) over the channels of each pixel; x, y [N,C,H,W].
   virtual void l2_normalize(const Tensor& x, float eps, const Tensor& y) = 0;
   virtual void l2_normalize_backward(const Tensor& x, float eps, const Tensor& dy,
@@ -116,6 +154,30 @@ class Backend {
   // One Adam update of `param` in place from `grad`, with moment buffers m and v.
   virtual void adam_step(const Tensor& param, const Tensor& grad, const Tensor& m,
                          const Tensor& v, const AdamParams& p) = 0;
+  // The same update for many parameters at once (the optimiser's whole step): by default one
+  // adam_step each; a backend may run them as one parallel loop. Same values either way.
+  struct AdamTensors {
+    Tensor param, grad, m, v;
+  };
+  virtual void adam_step_all(const std::vector<AdamTensors>& tensors, const AdamParams& p) {
+    for (const AdamTensors& t : tensors) adam_step(t.param, t.grad, t.m, t.v, p);
+  }
+
+  // ---- fused inference ops (optional) ----
+  // A backend that implements these returns true; the default returns false and core/ops
+  // computes the same result from the plain ops above (the reference the fused code is tested
+  // against). Forward only: nothing here is differentiated.
+  // y = the convolution of x and w (no bias: the epilogue's shift) followed by `e`.
+  virtual bool conv2d_fused(const Tensor& /*x*/, const Tensor& /*w*/, const Tensor& /*y*/,
+                            const Conv2dParams& /*p*/, const ConvEpilogue& /*e*/) {
+    return false;
+  }
+  // y = leaky_relu(scale[c] * x + shift[c], slope): an eval-mode batch norm and its activation.
+  virtual bool channel_affine_leaky_relu(const Tensor& /*x*/, const Tensor& /*scale*/,
+                                         const Tensor& /*shift*/, float /*slope*/,
+                                         const Tensor& /*y*/) {
+    return false;
+  }
 
   // ---- plugin kernels ----
   // Runs `entry` of `kernel` over `work_items` items with `args` (see custom_kernel.h).

@@ -2,11 +2,13 @@
 #include "core/face/face_crops.h"
 
 #include "core/face/face_mask.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
 FaceCrop crop_face(const RgbImage& photo, const DetectedFace& face, int crop_size,
                    bool extend_forehead) {
+  StageTimer timer("align");
   FaceCrop c;
   c.face = face;
   c.alignment = align_face(face.landmarks, crop_size);

@@ -7,6 +7,7 @@
 #include "core/face/face_mask.h"
 #include "core/util/error.h"
 #include "core/util/parallel_for.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -47,6 +48,7 @@ PasteRegion paste_region(int photo_width, int photo_height, const Similarity2& p
 
 void paste_channels(const PasteRegion& r, const float* crop, int channels, float* photo,
                     int photo_width, int photo_height) {
+  StageTimer timer("paste-back");
   const int s = r.crop_size;
   const size_t crop_plane = static_cast<size_t>(s) * s;
   const size_t photo_plane = static_cast<size_t>(photo_width) * photo_height;

@@ -5,6 +5,7 @@
 
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -40,6 +41,7 @@ RgbImage apply_exif_orientation(const RgbImage& in, int orientation) {
 }
 
 RgbImage read_photo(const std::string& path) {
+  StageTimer timer("decode");
   int orientation = 1;
   bool is_float = false;
   // A pipe or device would block OpenImageIO's open below; a folder is not "not an image".

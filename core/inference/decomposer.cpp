@@ -1,7 +1,11 @@
 // Decomposer: one eval-mode network pass and one render per batch.
 #include "core/inference/decomposer.h"
 
+#include <optional>
+
+#include "core/backend/backend.h"
 #include "core/util/error.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -12,8 +16,11 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
   const int s = network_.config().input_size;
   check(count > 0 && images.size() == static_cast<size_t>(count) * 3 * s * s,
         "decomposer: expected ", count, " images of 3x", s, "x", s, " values");
+  std::optional<StageTimer> timer(std::in_place, "network");
   ag::Variable input(Tensor::from_host(backend, Shape{count, 3, s, s}, images));
   NetworkOutputs out = network_.forward(input, false);
+  backend.synchronize();
+  timer.emplace("render");
   RenderInputs render_in{out.albedo.value(), out.normal.value(), out.visibility.value(),
                          out.light.value(), Tensor()};
   RenderOutputs render_out;

@@ -13,6 +13,7 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -63,6 +64,7 @@ std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
 }  // namespace
 
 std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image) {
+  StageTimer timer("encode");  // the interleaving and OpenEXR's compression
   check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
         "cannot write '", path, "': the image is empty");
   check(image.pixels.size() == image.plane_size() * image.channel_names.size(),

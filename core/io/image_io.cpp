@@ -16,6 +16,7 @@
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
 #include "core/util/memory_budget.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -111,6 +112,7 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
 
 std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
                                       bool encode_srgb) {
+  StageTimer timer("encode");  // the 8-bit (sRGB) conversion and the PNG compression
   check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
   std::vector<uint8_t> bytes(rgb.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {

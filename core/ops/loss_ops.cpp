@@ -75,6 +75,18 @@ void adam_step(const Tensor& param, const Tensor& grad, const Tensor& m, const T
   param.backend().adam_step(param, grad, m, v, p);
 }
 
+void adam_step_all(const std::vector<Backend::AdamTensors>& tensors, const AdamParams& p) {
+  if (tensors.empty()) return;
+  for (const Backend::AdamTensors& t : tensors) {
+    require_same_shape("adam_step_all", "param", t.param, "grad", t.grad);
+    require_same_shape("adam_step_all", "param", t.param, "m", t.m);
+    require_same_shape("adam_step_all", "param", t.param, "v", t.v);
+    require_same_backend("adam_step_all", tensors.front().param, {&t.param, &t.grad, &t.m, &t.v});
+  }
+  check(p.step >= 1, "adam_step_all: step counts from 1, got ", p.step);
+  tensors.front().param.backend().adam_step_all(tensors, p);
+}
+
 void launch(const CustomKernel& kernel, const std::string& entry, int64_t work_items,
             const std::vector<KernelArg>& args) {
   check(work_items >= 0, "launch ", kernel.name, ".", entry, ": negative work item count");

@@ -61,6 +61,16 @@ Tensor batch_norm(const Tensor& x, const Tensor& gamma, const Tensor& beta,
 void batch_norm_backward(const Tensor& x, const Tensor& gamma, const BatchNormSaved& saved,
                          const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
                          const Tensor* dbeta, const BatchNormParams& p, bool accumulate);
+// y = leaky_relu(batch_norm(x), slope) (slope > 0), in one pass where the backend fuses them;
+// its backward takes the forward output y (the activation's derivative is read from its sign).
+Tensor batch_norm_leaky_relu(const Tensor& x, const Tensor& gamma, const Tensor& beta,
+                             const Tensor& running_mean, const Tensor& running_var,
+                             const BatchNormParams& p, float slope, BatchNormSaved* saved);
+void batch_norm_leaky_relu_backward(const Tensor& x, const Tensor& gamma,
+                                    const BatchNormSaved& saved, const Tensor& y, float slope,
+                                    const Tensor& dy, const Tensor* dx, const Tensor* dgamma,
+                                    const Tensor* dbeta, const BatchNormParams& p,
+                                    bool accumulate);
 Tensor l2_normalize(const Tensor& x, float eps = 1e-12f);
 void l2_normalize_backward(const Tensor& x, float eps, const Tensor& dy, const Tensor& dx,
                            bool accumulate);
@@ -84,6 +94,34 @@ void masked_mse_backward(const Tensor& pred, const Tensor& target, const Tensor&
 // ---- optimiser ----
 void adam_step(const Tensor& param, const Tensor& grad, const Tensor& m, const Tensor& v,
                const AdamParams& p);
+// adam_step for every entry, fused into one pass where the backend can (all on one backend).
+void adam_step_all(const std::vector<Backend::AdamTensors>& tensors, const AdamParams& p);
+
+// ---- fused inference (core/ops/fused_ops.cpp) ----
+// Forward-only combinations of the ops above for evaluation. Each runs on the backend's fused
+// implementation when it has one and fused paths are enabled, else on the plain reference
+// below; the two agree to float rounding (tests/cpu/cpu_fused_test.cpp).
+// Fused paths are on unless FACETOOL_PLAIN_OPS=1 is set in the environment.
+bool fused_paths_enabled();
+void set_fused_paths_enabled(bool enabled);
+// Whether `backend` runs the fused ops itself (and would not fall back to the reference).
+bool backend_has_fused_ops(Backend& backend);
+// y = conv(x, w) followed by the epilogue `e` (see ConvEpilogue in core/backend/backend.h);
+// e.y2, when given, must be an allocated tensor of y's shape.
+Tensor conv2d_fused(const Tensor& x, const Tensor& w, const Conv2dParams& p,
+                    const ConvEpilogue& e);
+// The plain reference of conv2d_fused: ops::conv2d, then the epilogue on the host.
+Tensor conv2d_fused_reference(const Tensor& x, const Tensor& w, const Conv2dParams& p,
+                              const ConvEpilogue& e);
+// y = leaky_relu(scale[c] * x + shift[c], slope).
+Tensor channel_affine_leaky_relu(const Tensor& x, const Tensor& scale, const Tensor& shift,
+                                 float slope);
+// The eval-mode batch norm of the output of a convolution with `conv_bias` (nullptr: none)
+// as one per-channel affine map: scale = gamma / sqrt(var + eps),
+// shift = (conv_bias - mean) * scale + beta.
+void fold_batch_norm(const Tensor& gamma, const Tensor& beta, const Tensor& running_mean,
+                     const Tensor& running_var, float eps, const Tensor* conv_bias,
+                     Tensor& scale, Tensor& shift);
 
 // ---- plugin kernels ----
 void launch(const CustomKernel& kernel, const std::string& entry, int64_t work_items,

@@ -1,4 +1,4 @@
-// AdamOptimizer: moment buffers and the per-parameter update through ops::adam_step.
+// AdamOptimizer: moment buffers and the update of all parameters through ops::adam_step_all.
 #include "core/train/adam_optimizer.h"
 
 #include "core/ops/ops.h"
@@ -18,11 +18,16 @@ void AdamOptimizer::step() {
   ++step_;
   AdamParams p = params_;
   p.step = step_;
-  for (Slot& slot : slots_) {
-    if (!slot.parameter.has_grad()) continue;
-    ops::adam_step(slot.parameter.value(), slot.parameter.grad(), slot.m, slot.v, p);
-    slot.parameter.zero_grad();
-  }
+  // One fused update over every parameter with a gradient (one parallel loop on the cpu
+  // instead of one per parameter); the list is rebuilt each step, its capacity kept.
+  batch_.clear();
+  for (Slot& slot : slots_)
+    if (slot.parameter.has_grad())
+      batch_.push_back({slot.parameter.value(), slot.parameter.grad(), slot.m, slot.v});
+  ops::adam_step_all(batch_, p);
+  batch_.clear();
+  for (Slot& slot : slots_)
+    if (slot.parameter.has_grad()) slot.parameter.zero_grad();
 }
 
 std::vector<std::pair<std::string, Tensor>> AdamOptimizer::state() const {

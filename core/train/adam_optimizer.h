@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/autograd/variable.h"
+#include "core/backend/backend.h"
 #include "core/backend/op_params.h"
 
 namespace facetool {
@@ -29,6 +30,7 @@ class AdamOptimizer {
     Tensor m, v;
   };
   std::vector<Slot> slots_;
+  std::vector<Backend::AdamTensors> batch_;  // this step's update list
   AdamParams params_;
   int64_t step_ = 0;
 };

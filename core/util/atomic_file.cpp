@@ -11,9 +11,11 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <system_error>
 
 #include "core/util/error.h"
+#include "core/util/stage_timer.h"
 
 namespace facetool {
 namespace fs = std::filesystem;
@@ -86,6 +88,7 @@ std::string temporary_path_for(const std::string& path) {
 }
 
 void commit_temporary(const std::string& temporary, const std::string& path) {
+  StageTimer timer("fsync");  // the rename and the folder's fsync that makes it durable
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
@@ -146,6 +149,7 @@ void write_checked(const std::string& temporary, const std::string& path, const 
   const char* bytes = static_cast<const char*>(data);
   size_t written = 0;
   int error = 0;
+  std::optional<StageTimer> write_timer(std::in_place, "write");
   while (written < size) {
     const ssize_t n = ::write(fd, bytes + written, size - written);
     if (n < 0 && errno == EINTR) continue;
@@ -155,7 +159,11 @@ void write_checked(const std::string& temporary, const std::string& path, const 
     }
     written += static_cast<size_t>(n);
   }
-  if (error == 0 && ::fsync(fd) != 0) error = errno;
+  write_timer.reset();
+  {
+    StageTimer timer("fsync");
+    if (error == 0 && ::fsync(fd) != 0) error = errno;
+  }
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0)
     fail("cannot write '", path, "': ", std::strerror(error), write_failure_advice(error));

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "core/ops/ops.h"
+
 namespace facetool::paper_network {
 
 namespace {
@@ -31,6 +33,11 @@ ag::Variable Conv::operator()(const ag::Variable& x) const {
   return ag::conv2d(x, weight_, bias_, params_);
 }
 
+Tensor Conv::infer(const Tensor& x, ConvEpilogue e) const {
+  if (!e.scale && !e.shift) e.shift = &bias_.value();
+  return ops::conv2d_fused(x, weight_.value(), params_, e);
+}
+
 BatchNorm::BatchNorm(Backend& be, ParameterSet& set, const std::string& name, int64_t channels) {
   gamma_ = add_parameter(be, set, name + ".weight", Shape{channels}, 0, 0.0f, 1.0f);
   beta_ = add_parameter(be, set, name + ".bias", Shape{channels}, 0, 0.0f, 0.0f);
@@ -44,6 +51,23 @@ ag::Variable BatchNorm::operator()(const ag::Variable& x, bool training) const {
   BatchNormParams p;
   p.training = training;
   return ag::batch_norm(x, gamma_, beta_, running_mean_, running_var_, p);
+}
+
+ag::Variable BatchNorm::activated(const ag::Variable& x, bool training) const {
+  BatchNormParams p;
+  p.training = training;
+  return ag::batch_norm_leaky_relu(x, gamma_, beta_, running_mean_, running_var_, p, kLeakySlope);
+}
+
+void BatchNorm::fold(const Tensor* bias, Tensor& scale, Tensor& shift) const {
+  ops::fold_batch_norm(gamma_.value(), beta_.value(), running_mean_, running_var_,
+                       BatchNormParams{}.eps, bias, scale, shift);
+}
+
+Tensor BatchNorm::infer_leaky_relu(const Tensor& x) const {
+  Tensor scale, shift;
+  fold(nullptr, scale, shift);
+  return ops::channel_affine_leaky_relu(x, scale, shift, kLeakySlope);
 }
 
 Linear::Linear(Backend& be, ParameterSet& set, const std::string& name, int64_t in, int64_t out) {
@@ -61,7 +85,18 @@ ConvBnRelu::ConvBnRelu(Backend& be, ParameterSet& set, const std::string& name, 
       bn_(be, set, name + ".bn", out) {}
 
 ag::Variable ConvBnRelu::operator()(const ag::Variable& x, bool training) const {
-  return ag::leaky_relu(bn_(conv_(x), training), kLeakySlope);
+  return bn_.activated(conv_(x), training);
+}
+
+Tensor ConvBnRelu::infer(const Tensor& x) const {
+  Tensor scale, shift;
+  bn_.fold(&conv_.bias(), scale, shift);
+  ConvEpilogue e;
+  e.scale = &scale;
+  e.shift = &shift;
+  e.activation = ConvEpilogue::Activation::LeakyRelu;
+  e.slope = kLeakySlope;
+  return conv_.infer(x, e);
 }
 
 ResidualBlock::ResidualBlock(Backend& be, ParameterSet& set, const std::string& name,
@@ -72,9 +107,37 @@ ResidualBlock::ResidualBlock(Backend& be, ParameterSet& set, const std::string& 
       conv2_(be, set, name + ".conv2", channels, channels, 3, 1, leaky_relu_gain()) {}
 
 ag::Variable ResidualBlock::operator()(const ag::Variable& x, bool training) const {
-  ag::Variable h = conv1_(ag::leaky_relu(bn1_(x, training), kLeakySlope));
-  h = conv2_(ag::leaky_relu(bn2_(h, training), kLeakySlope));
+  ag::Variable h = conv1_(bn1_.activated(x, training));
+  h = conv2_(bn2_.activated(h, training));
   return ag::add(x, h);
+}
+
+}  // namespace facetool::paper_network
+
+namespace facetool::paper_network {
+
+Tensor ResidualBlock::infer(const Tensor& x, const Tensor& activated, const BatchNorm& next,
+                            Tensor& next_activated) const {
+  // conv1 -> bn2 -> LReLU: bn2 folded into conv1.
+  Tensor scale, shift;
+  bn2_.fold(&conv1_.bias(), scale, shift);
+  ConvEpilogue first;
+  first.scale = &scale;
+  first.shift = &shift;
+  first.activation = ConvEpilogue::Activation::LeakyRelu;
+  first.slope = kLeakySlope;
+  const Tensor h = conv1_.infer(activated, first);
+  // conv2 + bias + x, and the next batch norm + LReLU of that sum as the second output.
+  Tensor post_scale, post_shift;
+  next.fold(nullptr, post_scale, post_shift);
+  next_activated = Tensor::empty(x.backend(), x.shape());
+  ConvEpilogue second;
+  second.residual = &x;
+  second.y2 = &next_activated;
+  second.post_scale = &post_scale;
+  second.post_shift = &post_shift;
+  second.post_slope = kLeakySlope;
+  return conv2_.infer(h, second);
 }
 
 }  // namespace facetool::paper_network

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/autograd/functions.h"
+#include "core/backend/backend.h"
 
 namespace facetool::paper_network {
 
@@ -31,6 +32,9 @@ class Conv {
   Conv(Backend& be, ParameterSet& set, const std::string& name, int64_t in, int64_t out,
        int64_t kernel, int stride, float gain);
   ag::Variable operator()(const ag::Variable& x) const;
+  // Eval without autograd: conv(x) then `e`, whose shift defaults to this layer's bias.
+  Tensor infer(const Tensor& x, ConvEpilogue e) const;
+  const Tensor& bias() const { return bias_.value(); }
 
  private:
   ag::Variable weight_, bias_;
@@ -42,6 +46,13 @@ class BatchNorm {
   BatchNorm() = default;
   BatchNorm(Backend& be, ParameterSet& set, const std::string& name, int64_t channels);
   ag::Variable operator()(const ag::Variable& x, bool training) const;
+  // leaky_relu(batch_norm(x)) with the paper's slope, fused (ag::batch_norm_leaky_relu).
+  ag::Variable activated(const ag::Variable& x, bool training) const;
+  // Eval mode as one per-channel affine map applied to the output of a layer with `bias`
+  // (nullptr: none): y = scale * x + shift.
+  void fold(const Tensor* bias, Tensor& scale, Tensor& shift) const;
+  // Eval without autograd: leaky_relu(batch_norm(x)) in one pass.
+  Tensor infer_leaky_relu(const Tensor& x) const;
 
  private:
   ag::Variable gamma_, beta_;
@@ -69,6 +80,8 @@ class ConvBnRelu {
   ConvBnRelu(Backend& be, ParameterSet& set, const std::string& name, int64_t in, int64_t out,
              int64_t kernel);
   ag::Variable operator()(const ag::Variable& x, bool training) const;
+  // Eval without autograd: the batch norm folded into the convolution, leaky ReLU fused.
+  Tensor infer(const Tensor& x) const;
 
  private:
   Conv conv_;
@@ -81,6 +94,12 @@ class ResidualBlock {
   ResidualBlock() = default;
   ResidualBlock(Backend& be, ParameterSet& set, const std::string& name, int64_t channels);
   ag::Variable operator()(const ag::Variable& x, bool training) const;
+  // Eval without autograd, given x and activated = leaky_relu(bn1(x)) (computed by the layer
+  // before): returns x + block(x) and sets next_activated = leaky_relu(next(x + block(x))),
+  // the next layer's batch norm computed in the last convolution's epilogue.
+  Tensor infer(const Tensor& x, const Tensor& activated, const BatchNorm& next,
+               Tensor& next_activated) const;
+  const BatchNorm& first_norm() const { return bn1_; }
 
  private:
   BatchNorm bn1_;

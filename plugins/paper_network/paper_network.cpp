@@ -1,9 +1,11 @@
 // The paper's network: layer wiring, deterministic initialisation and the forward pass.
 #include "plugins/paper_network/paper_network.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "core/ops/ops.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 
@@ -19,7 +21,19 @@ ResidualStack::ResidualStack(Backend& be, ParameterSet& set, const std::string& 
 ag::Variable ResidualStack::operator()(const ag::Variable& x, bool training) const {
   ag::Variable h = x;
   for (const ResidualBlock& block : blocks_) h = block(h, training);
-  return ag::leaky_relu(bn_(h, training), kLeakySlope);
+  return bn_.activated(h, training);
+}
+
+Tensor ResidualStack::infer(const Tensor& x) const {
+  Tensor h = x;
+  Tensor activated = blocks_[0].first_norm().infer_leaky_relu(x);
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    const BatchNorm& next = i + 1 < blocks_.size() ? blocks_[i + 1].first_norm() : bn_;
+    Tensor next_activated;
+    h = blocks_[i].infer(h, activated, next, next_activated);
+    activated = next_activated;
+  }
+  return activated;  // leaky_relu(bn(h)): the stack's output
 }
 
 Decoder::Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_t channels,
@@ -30,6 +44,13 @@ Decoder::Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_
 
 ag::Variable Decoder::operator()(const ag::Variable& x, bool training) const {
   return out_(conv2_(conv1_(ag::upsample_bilinear2x(x), training), training));
+}
+
+Tensor Decoder::infer(const Tensor& x, ConvEpilogue::Activation last) const {
+  const Tensor h = conv2_.infer(conv1_.infer(ops::upsample_bilinear2x(x)));
+  ConvEpilogue e;
+  e.activation = last;
+  return out_.infer(h, e);
 }
 
 void PaperNetwork::build(Backend& be, const NetworkConfig& config) {
@@ -95,12 +116,90 @@ double PaperNetwork::forward_flops_per_image() const {
   return flops;
 }
 
+namespace {
+
+// `s` with its first dimension replaced (the outputs are rank 4, or rank 2 for the light).
+Shape with_batch(const Shape& s, int64_t n) {
+  return s.rank() == 4 ? Shape{n, s[1], s[2], s[3]} : Shape{n, s[1]};
+}
+
+// Images [n0, n0 + count) of x [N, ...] as a new tensor (x viewed as one image of N * C channels).
+Tensor slice_batch(const Tensor& x, int64_t n0, int64_t count) {
+  const Shape& s = x.shape();
+  const int64_t per_image = s.numel() / s[0];
+  const Tensor flat = x.reshaped(Shape{1, s[0] * per_image, 1, 1});
+  return ops::slice_channels(flat, n0 * per_image, count * per_image)
+      .reshaped(with_batch(s, count));
+}
+
+// The parts' images one after the other (the inverse of slice_batch).
+Tensor concat_batch(const std::vector<Tensor>& parts) {
+  std::vector<Tensor> flat;
+  int64_t images = 0;
+  for (const Tensor& p : parts) {
+    flat.push_back(p.reshaped(Shape{1, p.numel(), 1, 1}));
+    images += p.shape()[0];
+  }
+  return ops::concat_channels(flat).reshaped(with_batch(parts.front().shape(), images));
+}
+
+}  // namespace
+
+NetworkOutputs PaperNetwork::forward_fused(const Tensor& images) const {
+  // Large batches run a few images at a time: the activations of a chunk stay in cache from
+  // one layer to the next (about 2 MiB for the widest: 4 images at width 32, 64x64; one image
+  // at the paper's size), instead of streaming the whole batch through memory at every layer.
+  const int64_t widest = static_cast<int64_t>(config_.width) * config_.input_size *
+                         config_.input_size * static_cast<int64_t>(sizeof(float));
+  const int64_t chunk = std::max<int64_t>(1, (int64_t{2} << 20) / widest);
+  const int64_t batch = images.shape().n();
+  if (batch <= chunk) return forward_fused_chunk(images);
+  std::vector<Tensor> albedo, normal, visibility, light;
+  for (int64_t n0 = 0; n0 < batch; n0 += chunk) {
+    NetworkOutputs part = forward_fused_chunk(slice_batch(images, n0, std::min(chunk, batch - n0)));
+    albedo.push_back(part.albedo.value());
+    normal.push_back(part.normal.value());
+    visibility.push_back(part.visibility.value());
+    light.push_back(part.light.value());
+  }
+  NetworkOutputs out;
+  out.albedo = ag::Variable(concat_batch(albedo));
+  out.normal = ag::Variable(concat_batch(normal));
+  out.visibility = ag::Variable(concat_batch(visibility));
+  out.light = ag::Variable(concat_batch(light));
+  return out;
+}
+
+NetworkOutputs PaperNetwork::forward_fused_chunk(const Tensor& images) const {
+  const Tensor h = stem2_.infer(stem1_.infer(images));
+  ConvEpilogue down;
+  down.activation = ConvEpilogue::Activation::LeakyRelu;
+  down.slope = kLeakySlope;
+  const Tensor features = stem_down_.infer(h, down);
+  const Tensor albedo_features = albedo_residual_.infer(features);
+  const Tensor shape_features = shape_residual_.infer(features);
+
+  NetworkOutputs out;
+  out.albedo = ag::Variable(albedo_decoder_.infer(albedo_features, ConvEpilogue::Activation::Sigmoid));
+  const Tensor shape = shape_decoder_.infer(shape_features, ConvEpilogue::Activation::None);
+  out.normal = ag::Variable(ops::l2_normalize(ops::slice_channels(shape, 0, 3)));
+  out.visibility = ag::Variable(ops::slice_channels(shape, 3, 9));
+  const Tensor joint = ops::concat_channels({features, albedo_features, shape_features});
+  out.light = light_fc_(ag::Variable(ops::global_avg_pool(light_conv_.infer(joint))));
+  return out;
+}
+
 NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) {
   check(built_, "paper_network: forward() before build()");
   const Shape& s = images.shape();
   check(s.rank() == 4 && s.c() == 3 && s.h() == config_.input_size && s.w() == config_.input_size,
         "paper_network: expected images of shape [N, 3, ", config_.input_size, ", ",
         config_.input_size, "], got ", s.str());
+  // Evaluation that nothing will differentiate runs fused where the backend has fused ops;
+  // FACETOOL_PLAIN_OPS=1 (or ops::set_fused_paths_enabled(false)) keeps the plain path below.
+  if (!training && !images.requires_grad() && ops::fused_paths_enabled() &&
+      ops::backend_has_fused_ops(images.backend()))
+    return forward_fused(images.value());
   ag::Variable h = stem2_(stem1_(images, training), training);
   ag::Variable features = ag::leaky_relu(stem_down_(h), kLeakySlope);
   ag::Variable albedo_features = albedo_residual_(features, training);

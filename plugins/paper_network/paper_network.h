@@ -14,6 +14,7 @@ class ResidualStack {
   ResidualStack() = default;
   ResidualStack(Backend& be, ParameterSet& set, const std::string& name, int64_t channels);
   ag::Variable operator()(const ag::Variable& x, bool training) const;
+  Tensor infer(const Tensor& x) const;  // eval without autograd, fused
 
  private:
   std::array<ResidualBlock, 5> blocks_;
@@ -26,6 +27,8 @@ class Decoder {
   Decoder() = default;
   Decoder(Backend& be, ParameterSet& set, const std::string& name, int64_t channels, int64_t out);
   ag::Variable operator()(const ag::Variable& x, bool training) const;
+  // Eval without autograd, fused; `last` is the output layer's activation.
+  Tensor infer(const Tensor& x, ConvEpilogue::Activation last) const;
 
  private:
   ConvBnRelu conv1_, conv2_;
@@ -43,6 +46,11 @@ class PaperNetwork final : public NetworkPlugin {
   double forward_flops_per_image() const override;
 
  private:
+  // Eval mode on the fused ops (core/ops/fused_ops.cpp): batch norms folded into the
+  // convolutions, activations and residual additions in their epilogues, no autograd graph.
+  NetworkOutputs forward_fused(const Tensor& images) const;
+  NetworkOutputs forward_fused_chunk(const Tensor& images) const;  // one chunk of images
+
   NetworkConfig config_;
   bool built_ = false;
   ParameterSet set_;

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <random>
 
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
+#include "core/ops/ops.h"
 #include "core/train/adam_optimizer.h"
 
 namespace facetool {
@@ -26,13 +28,30 @@ Tensor random_images(Backend& be, int batch, int size, unsigned seed) {
   return Tensor::from_host(be, Shape{batch, 3, size, size}, values);
 }
 
+// CPU time of the whole process (all threads), in ms.
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+// Wall-clock and process CPU milliseconds of one run. On a machine shared with other work the
+// wall time also counts the time spent waiting for a core; the CPU time does not (facetool's
+// threads sleep while they wait, so it is the work done).
+struct Timing {
+  double wall, cpu;
+};
+
 template <typename F>
-double time_ms(Backend& be, F&& work) {
+Timing time_ms(Backend& be, F&& work) {
   be.synchronize();
+  const double cpu0 = process_cpu_ms();
   const auto start = std::chrono::steady_clock::now();
   work();
   be.synchronize();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double wall =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return {wall, process_cpu_ms() - cpu0};
 }
 
 }  // namespace
@@ -41,26 +60,50 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
                             const NetworkBenchOptions& options, std::ostream& out) {
   const int size = net.config().input_size;
   char line[256];
-  std::snprintf(line, sizeof line, "%-34s %8s %12s %10s %10s\n", "benchmark", "batch", "ms/image",
-                "images/s", "GFLOP/s");
+  std::snprintf(line, sizeof line, "%-34s %8s %12s %10s %10s %12s\n", "benchmark", "batch",
+                "ms/image", "images/s", "GFLOP/s", "cpu ms/image");
   out << "backend " << be.name() << " (" << be.device_description() << "), width "
       << net.config().width << ", input " << size << "x" << size << ", " << gflop
       << " GFLOP/image forward\n"
       << line;
   for (int batch : options.forward_batches) {
     ag::Variable images(random_images(be, batch, size, 1));
-    std::vector<double> runs;
-    for (int r = 0; r <= options.repeats; ++r) {
-      const double ms = time_ms(be, [&] {
+    auto forward_ms = [&] {
+      return time_ms(be, [&] {
         NetworkOutputs o = net.forward(images, false);
         o.light.value().to_host();
       });
-      if (r > 0) runs.push_back(ms / batch);  // run 0 warms caches and compiles kernels
+    };
+    // With compare_plain, the same forward on the plain ops (no folding or fusion, the
+    // reference path) alternates with the fused one (A B A B), so load changes hit both alike.
+    std::vector<double> runs, plain, runs_cpu, plain_cpu;
+    for (int r = 0; r <= options.repeats; ++r) {
+      const Timing t = forward_ms();
+      if (r > 0) {  // run 0 warms caches and compiles kernels
+        runs.push_back(t.wall / batch);
+        runs_cpu.push_back(t.cpu / batch);
+      }
+      if (!options.compare_plain) continue;
+      ops::set_fused_paths_enabled(false);
+      const Timing p = forward_ms();
+      ops::set_fused_paths_enabled(true);
+      if (r > 0) {
+        plain.push_back(p.wall / batch);
+        plain_cpu.push_back(p.cpu / batch);
+      }
     }
     const double per_image = median(runs);
-    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n", "forward (eval)", batch,
-                  per_image, 1000.0 / per_image, gflop / (per_image / 1000.0));
+    std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f %12.2f\n", "forward (eval)",
+                  batch, per_image, 1000.0 / per_image, gflop / (per_image / 1000.0),
+                  median(runs_cpu));
     out << line << std::flush;
+    if (options.compare_plain) {
+      const double plain_ms = median(plain);
+      std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f %12.2f\n",
+                    "forward (eval, plain ops)", batch, plain_ms, 1000.0 / plain_ms,
+                    gflop / (plain_ms / 1000.0), median(plain_cpu));
+      out << line << std::flush;
+    }
   }
   if (options.train_batch > 0) {
     const int batch = options.train_batch;
@@ -68,9 +111,9 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
     AdamParams adam;
     adam.lr = 1e-4f;
     AdamOptimizer optimizer(net.parameters(), adam);
-    std::vector<double> runs;
+    std::vector<double> runs, runs_cpu;
     for (int r = 0; r <= options.repeats; ++r) {
-      const double ms = time_ms(be, [&] {
+      const Timing t = time_ms(be, [&] {
         NetworkOutputs o = net.forward(images, true);
         ag::Variable loss = ag::add(ag::add(ag::mean(o.albedo), ag::mean(o.normal)),
                                     ag::add(ag::mean(o.visibility), ag::mean(o.light)));
@@ -78,12 +121,15 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
         optimizer.step();
         loss.value().to_host();
       });
-      if (r > 0) runs.push_back(ms);
+      if (r > 0) {
+        runs.push_back(t.wall);
+        runs_cpu.push_back(t.cpu);
+      }
     }
     const double step_ms = median(runs);
-    std::snprintf(line, sizeof line, "%-34s %8d %12.1f %10.2f %10.1f\n",
+    std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10.1f %12.2f\n",
                   "training step (fwd+bwd+Adam)", batch, step_ms / batch, batch * 1000.0 / step_ms,
-                  3.0 * gflop * batch / (step_ms / 1000.0));
+                  3.0 * gflop * batch / (step_ms / 1000.0), median(runs_cpu) / batch);
     out << line << std::flush;
   }
 }

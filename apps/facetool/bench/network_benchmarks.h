@@ -12,6 +12,7 @@ struct NetworkBenchOptions {
   std::vector<int> forward_batches{1, 20};
   int train_batch = 20;  // 0: skip the training step
   int repeats = 3;       // timed runs per figure (after one warm-up); the median is printed
+  bool compare_plain = true;  // also time eval on the plain ops (FACETOOL_PLAIN_OPS=1's path)
 };
 
 // Prints forward ms/image (eval mode) at each batch and the training step time (training-mode

@@ -1,9 +1,13 @@
 // `facetool bench <target>`: performance measurements: `ops` (the op table), `network`, `render`.
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <map>
 
+#include "apps/facetool/bench/conv_benchmarks.h"
+#include "apps/facetool/bench/infer_benchmarks.h"
 #include "apps/facetool/bench/network_benchmarks.h"
 #include "apps/facetool/bench/op_benchmarks.h"
 #include "apps/facetool/bench/render_benchmarks.h"
@@ -11,7 +15,10 @@
 #include "apps/facetool/bench/photo_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
+#include "apps/facetool/infer/default_model.h"
+#include "apps/facetool/infer/network_loading.h"
 #include "core/backend/registry.h"
+#include "core/util/error.h"
 
 namespace po = boost::program_options;
 
@@ -26,7 +33,10 @@ struct BenchSettings {
   int input_size = 128;
   int train_batch = 20;
   bool width_given = false;  // --width on the command line (bench train: else 32, 64, 128)
+  bool input_size_given = false;  // --input-size on the command line
   std::string photo;
+  std::string photos;
+  bool save = false;  // bench conv --save
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -34,16 +44,30 @@ void bench_ops(CommandContext& context, const BenchSettings& settings) {
   run_op_benchmarks(backend, settings.batches, settings.repeats, std::cout);
 }
 
+// Without --width / --input-size: the shipped model's size (models/README.md: width 32, 64x64),
+// then the paper's (width 128, 128x128).
 void bench_network(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
-  auto net = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, "paper_network");
-  net->build(backend, NetworkConfig{settings.width, settings.input_size});
-  net->init_random(1);
-  NetworkBenchOptions options;
-  options.forward_batches = settings.batches;
-  options.train_batch = settings.quick ? 2 : settings.train_batch;
-  options.repeats = settings.quick ? 1 : settings.repeats;
-  run_network_benchmarks(*net, backend, net->forward_flops_per_image() / 1e9, options, std::cout);
+  std::vector<NetworkConfig> configs;
+  if (settings.width_given || settings.input_size_given)
+    configs.push_back(NetworkConfig{settings.width, settings.input_size});
+  else if (settings.quick)
+    configs.push_back(NetworkConfig{32, 64});
+  else
+    configs = {NetworkConfig{32, 64}, NetworkConfig{128, 128}};
+  for (size_t i = 0; i < configs.size(); ++i) {
+    if (i > 0) std::cout << "\n";
+    auto net = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, "paper_network");
+    net->build(backend, configs[i]);
+    net->init_random(1);
+    NetworkBenchOptions options;
+    options.forward_batches = settings.batches;
+    options.train_batch = settings.quick ? 2 : settings.train_batch;
+    options.repeats = settings.quick ? 1 : settings.repeats;
+    options.compare_plain = !settings.quick;
+    run_network_benchmarks(*net, backend, net->forward_flops_per_image() / 1e9, options,
+                           std::cout);
+  }
 }
 
 void bench_render(CommandContext& context, const BenchSettings& settings) {
@@ -73,12 +97,54 @@ void bench_photo(CommandContext&, const BenchSettings& settings) {
   run_photo_benchmarks(settings.photo, settings.input_size, settings.quick ? 1 : settings.repeats, std::cout);
 }
 
+// The convolution algorithms per layer shape (shipped size unless --width / --input-size).
+void bench_conv(CommandContext& context, const BenchSettings& settings) {
+  Backend& backend = get_backend(context.backend);
+  ConvBenchOptions options;
+  if (settings.width_given || settings.input_size_given) {
+    options.width = settings.width;
+    options.input_size = settings.input_size;
+  }
+  options.batches = settings.batches;
+  options.repeats = settings.repeats;
+  options.save = settings.save;
+  run_conv_benchmarks(backend, options, std::cout);
+}
+
+// Whole photos through infer with the shipped model, outputs written to a temporary folder.
+void bench_infer(CommandContext& context, const BenchSettings& settings) {
+  namespace fs = std::filesystem;
+  Backend& backend = get_backend(context.backend);
+  const LoadedNetwork loaded = load_network_weights_file(context, backend, default_model_path());
+  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
+  Decomposer decomposer(*loaded.network, *renderer);
+  InferBenchOptions options;
+  options.photos = expand_photo_inputs({settings.photos});
+  check(!options.photos.empty(), "bench infer: no photos in '", settings.photos, "'");
+  options.crop_size = loaded.network->config().input_size;
+  options.repeats = settings.quick ? 1 : settings.repeats;
+  std::string pattern = (fs::temp_directory_path() / "facetool-bench-infer-XXXXXX").string();
+  check(mkdtemp(pattern.data()) != nullptr, "bench infer: cannot create a temporary folder in ",
+        fs::temp_directory_path().string());
+  options.out_dir = pattern;
+  try {
+    run_infer_benchmarks(decomposer, backend, options, std::cout);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(options.out_dir, ignored);
+    throw;
+  }
+  std::error_code ignored;
+  fs::remove_all(options.out_dir, ignored);
+}
+
 // Benchmark targets by name; a new one is one more entry.
 const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>&
 benchmarks() {
   static const std::map<std::string, std::function<void(CommandContext&, const BenchSettings&)>>
-      targets = {{"ops", bench_ops}, {"network", bench_network}, {"render", bench_render},
-                 {"train", bench_train}, {"photo", bench_photo}};
+      targets = {{"ops", bench_ops},     {"network", bench_network}, {"render", bench_render},
+                 {"train", bench_train}, {"photo", bench_photo},     {"infer", bench_infer},
+                 {"conv", bench_conv}};
   return targets;
 }
 
@@ -96,11 +162,17 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
       ("repeats", po::value<int>()->default_value(5)->value_name("N"),
        "timed repetitions per measurement (the median is reported)")
       ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
-      ("width", po::value<int>()->default_value(128), "network: width (the paper: 128)")
+      ("width", po::value<int>()->default_value(128),
+       "network: width (without it and --input-size: the shipped 32 at 64x64, then the paper's 128 at 128x128)")
       ("input-size", po::value<int>()->default_value(128), "network, render: image size (the paper: 128)")
       ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch")
       ("photo", po::value<std::string>()->default_value("examples/photos/grace_hopper_512x512.jpg"),
-       "photo: a photo with one face (also timed enlarged to 12 megapixels)");
+       "photo: a photo with one face (also timed enlarged to 12 megapixels)")
+      ("photos", po::value<std::string>()->default_value("examples/photos")->value_name("PHOTO|DIR"),
+       "infer: the photos (a folder: its image files), run --repeats times with every output written")
+      ("save", po::bool_switch(),
+       "conv: record the fastest algorithm per layer shape in this machine's cache, which the "
+       "fused inference path then uses (FACETOOL_CONV_CACHE names the file)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
@@ -135,8 +207,11 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.width = values["width"].as<int>();
   settings.width_given = !values["width"].defaulted();
   settings.input_size = values["input-size"].as<int>();
+  settings.input_size_given = !values["input-size"].defaulted();
   settings.train_batch = values["train-batch"].as<int>();
   settings.photo = values["photo"].as<std::string>();
+  settings.photos = values["photos"].as<std::string>();
+  settings.save = values["save"].as<bool>();
   if (values["quick"].as<bool>()) {
     settings.quick = true;
     settings.batches = {1};
@@ -147,7 +222,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration{
-    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench train, bench photo",
+    {"bench", "measure performance: bench ops (layer shapes), bench network, bench render, bench train, bench photo, bench infer, bench conv",
      run_bench}};
 
 }  // namespace

@@ -1,0 +1,49 @@
+// `bench infer`: infer_photos with stage timing switched on (core/util/stage_timer.h).
+#include "apps/facetool/bench/infer_benchmarks.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "core/util/stage_timer.h"
+
+namespace facetool {
+
+void run_infer_benchmarks(Decomposer& decomposer, Backend& backend,
+                          const InferBenchOptions& options, std::ostream& out) {
+  out << "infer on " << options.photos.size() << " photo(s), crop " << options.crop_size
+      << ", batch " << options.photo.batch << ", every output written, " << options.repeats
+      << " pass(es) after one warm-up photo\n";
+  // Warm-up: the first photo once (plugin kernels, caches, the detector's model).
+  infer_photos({options.photos.front()}, options.out_dir + "/warmup", decomposer, backend,
+               options.crop_size, options.photo);
+  reset_stage_totals();
+  enable_stage_timing(true);
+  const auto start = std::chrono::steady_clock::now();
+  int failed = 0;
+  for (int r = 0; r < options.repeats; ++r)
+    failed += infer_photos(options.photos, options.out_dir + "/pass" + std::to_string(r),
+                           decomposer, backend, options.crop_size, options.photo);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  enable_stage_timing(false);
+  const double photos = static_cast<double>(options.photos.size()) * options.repeats;
+  char line[200];
+  std::snprintf(line, sizeof line, "%.2f photos/s, %.1f ms per photo end to end%s\n",
+                photos / seconds, 1e3 * seconds / photos,
+                failed ? " (some photos had no face: see above)" : "");
+  out << line;
+  std::snprintf(line, sizeof line, "%-14s %12s %8s %8s\n", "stage", "ms/photo", "share", "calls");
+  out << line;
+  double accounted = 0.0;
+  for (const StageTotal& t : stage_totals()) {
+    accounted += t.seconds;
+    std::snprintf(line, sizeof line, "%-14s %12.2f %7.1f%% %8ld\n", t.stage.c_str(),
+                  1e3 * t.seconds / photos, 100.0 * t.seconds / seconds, t.calls);
+    out << line;
+  }
+  std::snprintf(line, sizeof line, "%-14s %12.2f %7.1f%%\n", "other", 1e3 * (seconds - accounted) / photos,
+                100.0 * (seconds - accounted) / seconds);
+  out << line << std::flush;
+}
+
+}  // namespace facetool

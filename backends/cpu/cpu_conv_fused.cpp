@@ -1,0 +1,93 @@
+// The cpu backend's fused inference ops: convolution + epilogue by the chosen algorithm, and the
+// eval-mode batch norm + leaky ReLU in one pass.
+#include <algorithm>
+
+#include "backends/cpu/cpu_backend_impl.h"
+#include "backends/cpu/cpu_conv.h"
+#include "backends/cpu/cpu_conv_choice.h"
+#include "backends/cpu/cpu_epilogue.h"
+#include "backends/cpu/cpu_winograd.h"
+#include "core/util/parallel_for.h"
+
+namespace facetool::cpu {
+
+bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, int64_t batch,
+                               int64_t out_channels, const float* x, const float* w, float* y,
+                               const Epilogue* epilogue) {
+  switch (algorithm) {
+    case ConvAlgorithm::Im2col:
+      im2col_convolve(g, batch, out_channels, x, w, nullptr, y, false, epilogue);
+      return true;
+    case ConvAlgorithm::Winograd: {
+      if (!(g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
+            g.out_width == g.width))
+        return false;
+      Scratch transformed = scratch(winograd_weight_floats(g, out_channels));
+      winograd_convolve(g, batch, out_channels, x, w, nullptr, y, false, transformed.data(),
+                        epilogue);
+      return true;
+    }
+    case ConvAlgorithm::Dnnl:
+      return dnnl_convolve(g, batch, out_channels, x, w, y, epilogue);
+  }
+  return false;
+}
+
+bool CpuBackend::conv2d_fused(const Tensor& x, const Tensor& w, const Tensor& y,
+                              const Conv2dParams& p, const ConvEpilogue& e) {
+  ConvGeometry g;
+  g.channels = x.shape().c();
+  g.height = x.shape().h();
+  g.width = x.shape().w();
+  g.kernel = w.shape().h();
+  g.stride = p.stride;
+  g.pad = p.effective_pad(g.kernel);
+  g.out_height = y.shape().h();
+  g.out_width = y.shape().w();
+  const int64_t batch = x.shape().n();
+  const int64_t out_channels = w.shape().n();
+  Epilogue epilogue;
+  epilogue.scale = e.scale ? ptr(*e.scale) : nullptr;
+  epilogue.shift = e.shift ? ptr(*e.shift) : nullptr;
+  epilogue.residual = e.residual ? ptr(*e.residual) : nullptr;
+  epilogue.activation = e.activation;
+  epilogue.slope = e.slope;
+  epilogue.y2 = e.y2 ? ptr(*e.y2) : nullptr;
+  epilogue.post_scale = e.post_scale ? ptr(*e.post_scale) : nullptr;
+  epilogue.post_shift = e.post_shift ? ptr(*e.post_shift) : nullptr;
+  epilogue.post_slope = e.post_slope;
+  epilogue.out_channels = out_channels;
+  epilogue.plane = g.pixels();
+  const ConvAlgorithm chosen = chosen_conv_algorithm(g, batch, out_channels);
+  if (convolve_with(chosen, g, batch, out_channels, ptr(x), ptr(w), ptr(y), &epilogue))
+    return true;
+  return convolve_with(ConvAlgorithm::Im2col, g, batch, out_channels, ptr(x), ptr(w), ptr(y),
+                       &epilogue);
+}
+
+bool CpuBackend::channel_affine_leaky_relu(const Tensor& x, const Tensor& scale,
+                                           const Tensor& shift, float slope, const Tensor& y) {
+  const Shape& s = x.shape();
+  const int64_t plane = s.h() * s.w();
+  const float* px = ptr(x);
+  const float* ps = ptr(scale);
+  const float* pt = ptr(shift);
+  float* py = ptr(y);
+  // One task per (image, channel) plane, several planes per chunk when planes are small.
+  parallel_for(s.n() * s.c(), std::max<int64_t>(1, kElementwiseGrain / plane),
+               [&](int64_t begin, int64_t end) {
+                 for (int64_t i = begin; i < end; ++i) {
+                   const int64_t c = i % s.c();
+                   const float a = ps[c], b = pt[c];
+                   const float* __restrict in = px + i * plane;
+                   float* __restrict out = py + i * plane;
+                   for (int64_t j = 0; j < plane; ++j) {
+                     const float v = a * in[j] + b;
+                     out[j] = v > 0.0f ? v : slope * v;
+                   }
+                 }
+               });
+  return true;
+}
+
+}  // namespace facetool::cpu

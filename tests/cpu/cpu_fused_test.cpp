@@ -1,0 +1,272 @@
+// The cpu backend's fused inference ops against the plain reference (ops::conv2d and host loops):
+// every convolution algorithm (im2col, Winograd, oneDNN) with every epilogue on odd shapes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "backends/cpu/cpu_conv_choice.h"
+#include "core/backend/registry.h"
+#include "core/ops/ops.h"
+#include "core/util/error.h"
+#include "tests/support/test_support.h"
+
+namespace facetool::testing {
+namespace {
+
+using cpu::ConvAlgorithm;
+
+Backend& cpu_backend() { return get_backend("cpu"); }
+
+// Forces one algorithm for the lifetime of the object.
+struct ForcedAlgorithm {
+  explicit ForcedAlgorithm(ConvAlgorithm a) { cpu::set_conv_algorithm_override(a); }
+  ~ForcedAlgorithm() { cpu::set_conv_algorithm_override(std::nullopt); }
+};
+
+struct Case {
+  int64_t batch, in, out, size, kernel;
+  int stride;
+};
+
+// Channels 1, 3, 13, 31, 33; sizes 1, 7, 64, 65; batches 1 and 20; kernels 1, 3, 7; stride 2.
+const Case kCases[] = {
+    {1, 1, 3, 7, 3, 1},    {20, 3, 13, 7, 3, 1},  {1, 13, 31, 64, 3, 1}, {20, 31, 33, 7, 3, 1},
+    {1, 33, 33, 65, 3, 1}, {20, 33, 1, 1, 3, 1},  {1, 3, 13, 65, 7, 1},  {20, 13, 3, 7, 1, 1},
+    {1, 31, 13, 64, 1, 1}, {20, 33, 31, 7, 3, 2}, {1, 13, 33, 65, 3, 2}, {20, 1, 31, 1, 7, 1},
+    {20, 33, 33, 64, 3, 1}};
+
+std::string describe(const Case& c, ConvAlgorithm a, int variant) {
+  return std::to_string(c.batch) + "x" + std::to_string(c.in) + "x" + std::to_string(c.size) +
+         " k" + std::to_string(c.kernel) + " s" + std::to_string(c.stride) + " -> " +
+         std::to_string(c.out) + " by " + cpu::conv_algorithm_name(a) + ", epilogue " +
+         std::to_string(variant);
+}
+
+// Each output sums up to in * kernel^2 products of values in [-1, 1]; float rounding of the
+// algorithms (Winograd's transforms most) stays well inside these.
+constexpr double kAtol = 5e-4, kRtol = 1e-4;
+
+TEST(CpuFused, ConvolutionWithEveryEpilogueMatchesThePlainReference) {
+  Backend& be = cpu_backend();
+  unsigned seed = 100;
+  for (const Case& c : kCases) {
+    const Shape xs{c.batch, c.in, c.size, c.size}, ws{c.out, c.in, c.kernel, c.kernel};
+    const Tensor x = random_tensor(be, xs, ++seed);
+    const Tensor w = random_tensor(be, ws, ++seed);
+    const Tensor y_shape = ops::conv2d(x, w, nullptr, Conv2dParams{c.stride});
+    const Shape ys = y_shape.shape();
+    const Tensor scale = random_tensor(be, Shape{c.out}, ++seed, 0.5f, 1.5f);
+    const Tensor shift = random_tensor(be, Shape{c.out}, ++seed);
+    const Tensor post_scale = random_tensor(be, Shape{c.out}, ++seed, 0.5f, 1.5f);
+    const Tensor post_shift = random_tensor(be, Shape{c.out}, ++seed);
+    const Tensor residual = random_tensor(be, ys, ++seed);
+    for (int variant = 0; variant < 4; ++variant) {
+      ConvEpilogue e;
+      if (variant == 0) {  // bias only
+        e.shift = &shift;
+      } else if (variant == 1) {  // folded batch norm + leaky ReLU
+        e.scale = &scale;
+        e.shift = &shift;
+        e.activation = ConvEpilogue::Activation::LeakyRelu;
+        e.slope = 0.2f;
+      } else if (variant == 2) {  // sigmoid output layer
+        e.shift = &shift;
+        e.activation = ConvEpilogue::Activation::Sigmoid;
+      } else {  // residual block's last convolution with the next batch norm as second output
+        e.shift = &shift;
+        e.residual = &residual;
+        e.post_scale = &post_scale;
+        e.post_shift = &post_shift;
+        e.post_slope = 0.2f;
+      }
+      Tensor y2_expected = Tensor::empty(be, ys);
+      ConvEpilogue reference = e;
+      if (variant == 3) reference.y2 = &y2_expected;
+      const std::vector<float> expected =
+          ops::conv2d_fused_reference(x, w, Conv2dParams{c.stride}, reference).to_host();
+      for (ConvAlgorithm a : cpu::applicable_conv_algorithms(
+               cpu::ConvGeometry{c.in, c.size, c.size, c.kernel, c.stride, c.kernel / 2,
+                                 ys.h(), ys.w()},
+               c.out)) {
+        ForcedAlgorithm forced(a);
+        Tensor y2 = Tensor::empty(be, ys);
+        ConvEpilogue fused = e;
+        if (variant == 3) fused.y2 = &y2;
+        const Tensor y = ops::conv2d_fused(x, w, Conv2dParams{c.stride}, fused);
+        EXPECT_TRUE(all_close(y.to_host(), expected, kAtol, kRtol)) << describe(c, a, variant);
+        if (variant == 3)
+          EXPECT_TRUE(all_close(y2.to_host(), y2_expected.to_host(), kAtol, kRtol))
+              << describe(c, a, variant) << " second output";
+      }
+    }
+  }
+}
+
+TEST(CpuFused, PlainPathsSwitchIsHonoured) {
+  // With fused paths off, conv2d_fused is the reference itself (bit for bit).
+  Backend& be = cpu_backend();
+  const Tensor x = random_tensor(be, Shape{2, 13, 7, 7}, 1);
+  const Tensor w = random_tensor(be, Shape{31, 13, 3, 3}, 2);
+  const Tensor shift = random_tensor(be, Shape{31}, 3);
+  ConvEpilogue e;
+  e.shift = &shift;
+  e.activation = ConvEpilogue::Activation::LeakyRelu;
+  e.slope = 0.2f;
+  ops::set_fused_paths_enabled(false);
+  const std::vector<float> plain = ops::conv2d_fused(x, w, Conv2dParams{}, e).to_host();
+  ops::set_fused_paths_enabled(true);
+  EXPECT_EQ(plain, ops::conv2d_fused_reference(x, w, Conv2dParams{}, e).to_host());
+}
+
+TEST(CpuFused, AffineLeakyReluMatchesBatchNormThenLeakyRelu) {
+  Backend& be = cpu_backend();
+  for (const int64_t channels : {1, 3, 13, 31, 33}) {
+    for (const int64_t size : {1, 7, 64, 65}) {
+      for (const int64_t batch : {1, 20}) {
+        if (batch == 20 && size >= 64 && channels > 3) continue;  // keep the test quick
+        const Shape xs{batch, channels, size, size}, cs{channels};
+        const Tensor x = random_tensor(be, xs, 7);
+        const Tensor gamma = random_tensor(be, cs, 8, 0.5f, 1.5f);
+        const Tensor beta = random_tensor(be, cs, 9);
+        const Tensor mean = random_tensor(be, cs, 10);
+        const Tensor var = random_tensor(be, cs, 11, 0.1f, 2.0f);
+        BatchNormParams eval;
+        eval.training = false;
+        const std::vector<float> expected =
+            ops::leaky_relu(ops::batch_norm(x, gamma, beta, mean, var, eval), 0.2f).to_host();
+        Tensor scale, shift;
+        ops::fold_batch_norm(gamma, beta, mean, var, eval.eps, nullptr, scale, shift);
+        EXPECT_TRUE(all_close(ops::channel_affine_leaky_relu(x, scale, shift, 0.2f).to_host(),
+                              expected, 1e-5, 1e-5))
+            << batch << "x" << channels << "x" << size;
+      }
+    }
+  }
+}
+
+TEST(CpuFused, FoldedBatchNormMatchesConvolutionThenBatchNorm) {
+  Backend& be = cpu_backend();
+  const Shape xs{3, 13, 9, 9}, ws{31, 13, 3, 3}, cs{31};
+  const Tensor x = random_tensor(be, xs, 1), w = random_tensor(be, ws, 2);
+  const Tensor bias = random_tensor(be, cs, 3), gamma = random_tensor(be, cs, 4, 0.5f, 1.5f);
+  const Tensor beta = random_tensor(be, cs, 5), mean = random_tensor(be, cs, 6);
+  const Tensor var = random_tensor(be, cs, 7, 0.1f, 2.0f);
+  BatchNormParams eval;
+  eval.training = false;
+  const std::vector<float> expected =
+      ops::batch_norm(ops::conv2d(x, w, &bias, Conv2dParams{}), gamma, beta, mean, var, eval)
+          .to_host();
+  Tensor scale, shift;
+  ops::fold_batch_norm(gamma, beta, mean, var, eval.eps, &bias, scale, shift);
+  ConvEpilogue e;
+  e.scale = &scale;
+  e.shift = &shift;
+  EXPECT_TRUE(all_close(ops::conv2d_fused(x, w, Conv2dParams{}, e).to_host(), expected, 1e-4,
+                        1e-4));
+}
+
+TEST(CpuFused, MismatchedEpilogueShapesAreRefused) {
+  Backend& be = cpu_backend();
+  const Tensor x = random_tensor(be, Shape{1, 3, 5, 5}, 1);
+  const Tensor w = random_tensor(be, Shape{4, 3, 3, 3}, 2);
+  const Tensor wrong = random_tensor(be, Shape{5}, 3);
+  ConvEpilogue e;
+  e.shift = &wrong;
+  EXPECT_THROW(ops::conv2d_fused(x, w, Conv2dParams{}, e), Error);
+  const Tensor y2 = Tensor::empty(be, Shape{1, 4, 5, 5});
+  ConvEpilogue missing;
+  missing.y2 = &y2;  // without post_scale / post_shift
+  EXPECT_THROW(ops::conv2d_fused(x, w, Conv2dParams{}, missing), Error);
+}
+
+// Batch norm + leaky ReLU in one pass (forward) and its backward reading the activation's sign
+// from the output, against the plain ops (batch_norm, leaky_relu and their backwards), in
+// training and eval mode, overwriting and accumulating gradients.
+TEST(CpuFused, BatchNormLeakyReluForwardAndBackwardMatchThePlainOps) {
+  Backend& be = cpu_backend();
+  unsigned seed = 300;
+  for (const int64_t channels : {1, 3, 13, 31, 33}) {
+    for (const int64_t size : {1, 7, 64, 65}) {
+      for (const int64_t batch : {1, 20}) {
+        if (batch == 20 && size >= 64 && channels > 3) continue;  // keep the test quick
+        for (const bool training : {true, false}) {
+          if (training && batch * size * size < 2) continue;  // needs two values per channel
+          const Shape xs{batch, channels, size, size}, cs{channels};
+          const Tensor x = random_tensor(be, xs, ++seed);
+          const Tensor gamma = random_tensor(be, cs, ++seed, 0.5f, 1.5f);
+          const Tensor beta = random_tensor(be, cs, ++seed);
+          const Tensor dy = random_tensor(be, xs, ++seed);
+          const std::vector<float> mean0 = random_values(channels, ++seed, -0.2f, 0.2f),
+                                   var0 = random_values(channels, ++seed, 0.5f, 2.0f);
+          BatchNormParams p;
+          p.training = training;
+          struct Result {
+            std::vector<float> y, dx, dgamma, dbeta, mean, var;
+          };
+          auto run = [&](bool fused, bool accumulate) {
+            ops::set_fused_paths_enabled(fused);
+            const Tensor mean = Tensor::from_host(be, cs, mean0);
+            const Tensor var = Tensor::from_host(be, cs, var0);
+            ops::BatchNormSaved saved;
+            const Tensor y = ops::batch_norm_leaky_relu(x, gamma, beta, mean, var, p, 0.2f, &saved);
+            const Tensor dx = Tensor::full(be, xs, 0.5f);
+            const Tensor dgamma = Tensor::full(be, cs, 0.5f), dbeta = Tensor::full(be, cs, 0.5f);
+            ops::batch_norm_leaky_relu_backward(x, gamma, saved, y, 0.2f, dy, &dx, &dgamma,
+                                                &dbeta, p, accumulate);
+            ops::set_fused_paths_enabled(true);
+            return Result{y.to_host(),      dx.to_host(),   dgamma.to_host(),
+                          dbeta.to_host(),  mean.to_host(), var.to_host()};
+          };
+          const std::string what = std::to_string(batch) + "x" + std::to_string(channels) + "x" +
+                                   std::to_string(size) + (training ? " training" : " eval");
+          for (const bool accumulate : {false, true}) {
+            const Result fused = run(true, accumulate), plain = run(false, accumulate);
+            const std::string w = what + (accumulate ? " accumulate" : "");
+            EXPECT_TRUE(all_close(fused.y, plain.y, 1e-6, 1e-5)) << w << " y";
+            EXPECT_TRUE(all_close(fused.dx, plain.dx, 1e-5, 1e-4)) << w << " dx";
+            // dgamma and dbeta sum over batch * size^2 values.
+            const double atol = 1e-5 * std::sqrt(double(batch * size * size));
+            EXPECT_TRUE(all_close(fused.dgamma, plain.dgamma, atol, 1e-4)) << w << " dgamma";
+            EXPECT_TRUE(all_close(fused.dbeta, plain.dbeta, atol, 1e-4)) << w << " dbeta";
+            EXPECT_EQ(fused.mean, plain.mean) << w << " running mean";
+            EXPECT_EQ(fused.var, plain.var) << w << " running var";
+          }
+        }
+      }
+    }
+  }
+}
+
+// The optimiser's fused step over all parameters against one adam_step per parameter: the same
+// bits (the trainer's exact resume relies on it), on sizes that cut chunks mid-parameter.
+TEST(CpuFused, AdamOverAllParametersEqualsOneStepPerParameter) {
+  Backend& be = cpu_backend();
+  const std::vector<int64_t> sizes{1, 3, 13, 31, 33, 16385, 64, 40000, 65};
+  std::vector<Backend::AdamTensors> fused, single;
+  unsigned seed = 500;
+  for (const int64_t n : sizes) {
+    const Shape s{n};
+    const std::vector<float> param = random_values(n, ++seed), grad = random_values(n, ++seed),
+                             m = random_values(n, ++seed, -0.1f, 0.1f),
+                             v = random_values(n, ++seed, 0.0f, 0.1f);
+    for (auto* list : {&fused, &single})
+      list->push_back({Tensor::from_host(be, s, param), Tensor::from_host(be, s, grad),
+                       Tensor::from_host(be, s, m), Tensor::from_host(be, s, v)});
+  }
+  AdamParams p;
+  p.lr = 1e-2f;
+  p.weight_decay = 1e-3f;
+  for (int64_t step = 1; step <= 3; ++step) {
+    p.step = step;
+    ops::adam_step_all(fused, p);
+    for (const auto& t : single) ops::adam_step(t.param, t.grad, t.m, t.v, p);
+  }
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    EXPECT_EQ(fused[k].param.to_host(), single[k].param.to_host()) << "parameter " << k;
+    EXPECT_EQ(fused[k].m.to_host(), single[k].m.to_host()) << "m " << k;
+    EXPECT_EQ(fused[k].v.to_host(), single[k].v.to_host()) << "v " << k;
+  }
+}
+
+}  // namespace
+}  // namespace facetool::testing
