@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <iostream>
 
 #include "core/face/frame_rotation.h"
 #include "core/face/photo_reader.h"

@@ -14,6 +14,7 @@
 #include "core/inference/batched_decomposition.h"
 #include "core/inference/decomposer.h"
 #include "core/sh/sh_types.h"
+#include "core/util/error.h"
 
 namespace facetool {
 

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "core/photo/photo_files.h"
+#include "core/util/output_names.h"
 #include "core/util/stage_timer.h"
 
 namespace facetool {
@@ -13,16 +15,19 @@ void run_infer_benchmarks(Decomposer& decomposer, Backend& backend,
   out << "infer on " << options.photos.size() << " photo(s), crop " << options.crop_size
       << ", batch " << options.photo.batch << ", every output written, " << options.repeats
       << " pass(es) after one warm-up photo\n";
+  const std::unique_ptr<FaceDetector> detector = make_face_detector(options.photo);
+  PhotoDecomposer photo_decomposer(*detector, decomposer, backend, options.crop_size, options.photo);
+  auto run = [&](const std::vector<std::string>& photos, const std::string& dir) {
+    return infer_photos(photos, unique_output_names(photos), dir, photo_decomposer, options.photo);
+  };
   // Warm-up: the first photo once (plugin kernels, caches, the detector's model).
-  infer_photos({options.photos.front()}, options.out_dir + "/warmup", decomposer, backend,
-               options.crop_size, options.photo);
+  run({options.photos.front()}, options.out_dir + "/warmup");
   reset_stage_totals();
   enable_stage_timing(true);
   const auto start = std::chrono::steady_clock::now();
   int failed = 0;
   for (int r = 0; r < options.repeats; ++r)
-    failed += infer_photos(options.photos, options.out_dir + "/pass" + std::to_string(r),
-                           decomposer, backend, options.crop_size, options.photo);
+    failed += run(options.photos, options.out_dir + "/pass" + std::to_string(r));
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   enable_stage_timing(false);

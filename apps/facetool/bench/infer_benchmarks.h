@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/facetool/infer/photo_pipeline.h"
+#include "core/backend/backend.h"
+#include "core/inference/decomposer.h"
+#include "core/photo/photo_pipeline.h"
 
 namespace facetool {
 
