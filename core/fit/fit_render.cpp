@@ -3,6 +3,7 @@
 #include "core/fit/fit_render.h"
 
 #include <algorithm>
+#include <cmath>
 #include <time.h>
 
 #include "core/synth/gbuffer.h"
@@ -51,7 +52,24 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
       high[c] = std::max(high[c], p[c]);
     }
   }
-  for (const Vec3f& p : out.mesh.positions) front = std::max(front, p.z);
+  // Only the pixels the mesh's projection can reach are cast (a face is a small part of most photos).
+  double px0 = 1e30, py0 = 1e30, px1 = -1e30, py1 = -1e30;
+  for (const Vec3f& p : out.mesh.positions) {
+    front = std::max(front, p.z);
+    if (fit.camera == FitCamera::kPerspective && p.z > -1e-6f) {  // behind the camera: cast everything
+      px0 = py0 = -1e30;
+      px1 = py1 = 1e30;
+      continue;
+    }
+    const Point2 q = fit.project(p);
+    px0 = std::min(px0, q.x);
+    py0 = std::min(py0, q.y);
+    px1 = std::max(px1, q.x);
+    py1 = std::max(py1, q.y);
+  }
+  auto clamp_to = [](double v, int hi) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi))); };
+  const PixelRect rect{clamp_to(std::floor(px0) - 1, fit.width), clamp_to(std::floor(py0) - 1, fit.height),
+                       clamp_to(std::ceil(px1) + 2, fit.width), clamp_to(std::ceil(py1) + 2, fit.height)};
   GBuffer g;
   if (fit.camera == FitCamera::kScaledOrthographic) {
     // Parallel rays down -Z from in front of the mesh; depth from the plane z = 0.
@@ -60,7 +78,8 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
                   [&](int x, int y, Vec3f& origin, Vec3f& direction) {
                     origin = {static_cast<float>(x - fit.cx), static_cast<float>(fit.cy - y), origin_z};
                     direction = {0.0f, 0.0f, -1.0f};
-                  });
+                  },
+                  rect);
   } else {
     const float inv_f = static_cast<float>(1.0 / fit.focal_px);
     g = cast_rays(scene, out.mesh, normals, fit.width, fit.height, 0.0f,
@@ -68,7 +87,8 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
                     origin = {0.0f, 0.0f, 0.0f};
                     direction = normalized(Vec3f{static_cast<float>(x - fit.cx) * inv_f,
                                                  static_cast<float>(fit.cy - y) * inv_f, -1.0f});
-                  });
+                  },
+                  rect);
   }
   const size_t plane = static_cast<size_t>(fit.width) * fit.height;
   out.head = g.head;

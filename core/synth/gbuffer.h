@@ -2,6 +2,7 @@
 // depth, and where on the reference face the hit lies, for the albedo).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -29,11 +30,17 @@ struct GBuffer {
 GBuffer cast_primary_rays(const RayScene& scene, const FaceMesh& mesh,
                           const std::vector<Vec3f>& normals, const Camera& camera);
 
+// Pixels [x0, x1) x [y0, y1) of a width x height image (the rest stays empty).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 // The same for any camera: `ray(x, y, origin, direction)` gives the ray through the centre of
 // pixel (x, y) (e.g. parallel rays for an orthographic camera); depth is eye_z - position.z.
+// Only the pixels of `rect` are cast (the whole image when it is empty).
 template <typename RayFunction>
 GBuffer cast_rays(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
-                  int width, int height, float eye_z, const RayFunction& ray);
+                  int width, int height, float eye_z, const RayFunction& ray, PixelRect rect = {});
 
 // One pixel of a G-buffer from the hit of the ray (origin, direction); false for a miss or a
 // back face (then the pixel stays empty). Shared by cast_primary_rays and cast_rays.
@@ -44,10 +51,11 @@ GBuffer empty_gbuffer(int width, int height);
 
 template <typename RayFunction>
 GBuffer cast_rays(const RayScene& scene, const FaceMesh& mesh, const std::vector<Vec3f>& normals,
-                  int width, int height, float eye_z, const RayFunction& ray) {
+                  int width, int height, float eye_z, const RayFunction& ray, PixelRect rect) {
   GBuffer g = empty_gbuffer(width, height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
+  if (rect.x1 <= rect.x0 || rect.y1 <= rect.y0) rect = {0, 0, width, height};
+  for (int y = std::max(0, rect.y0); y < std::min(height, rect.y1); ++y)
+    for (int x = std::max(0, rect.x0); x < std::min(width, rect.x1); ++x) {
       Vec3f origin, direction;
       ray(x, y, origin, direction);
       shade_primary_hit(scene, mesh, normals, origin, direction, eye_z,
