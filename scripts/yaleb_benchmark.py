@@ -41,6 +41,7 @@ except ImportError:
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_DATA = os.path.join(ROOT, "..", "shared", "assets", "faces", "yaleb-dev")
 DEFAULT_CACHE = os.path.join(ROOT, "build", "yaleb")
+DEFAULT_FACE_MODEL = os.path.join(ROOT, "..", "shared", "assets", "ict-facekit", "FaceXModel")
 NAME_RE = re.compile(r"^(yaleB\d+)_P00A([+-]\d{3})E([+-]\d{2})\.pgm$")
 EVAL_LIGHTS = [(0, 0), (25, 0), (-25, 0), (50, 0), (-50, 0)]   # (azimuth, elevation), degrees
 
@@ -481,36 +482,7 @@ def command_infer(args):
         print(f"facetool infer {' '.join(extra)} on {len(photos)} photos -> {out}", flush=True)
         run_facetool([facetool, "infer", *extra, *[p for _, _, p in photos], "-o", out],
                      os.path.join(pred, name + ".log"))
-    # The same photos padded by a quarter of their width on every side with their mean grey:
-    # the crops are so tight that the HOG detector misses most faces; with a margin it finds
-    # more (padding by half the width: fewer; with repeated edge pixels or black: fewer still).
-    # The pasted-back normals are cut back to the photo's frame and written as normal.exr.
-    padded_in = os.path.join(args.cache, "padded-photos")
-    raw_out = os.path.join(pred, "infer-padded-full")
-    out = os.path.join(pred, "infer-padded")
-    for d in (padded_in, raw_out, out):
-        if os.path.isdir(d):
-            shutil.rmtree(d)
-        os.makedirs(d)
-    pad = {}
-    for _, stem, path in photos:
-        img = read_pgm(path)
-        pad[stem] = (img.shape[1] // 4, img.shape)
-        write_png8(os.path.join(padded_in, stem + ".png"),
-                   np.pad(img, pad[stem][0], constant_values=float(img.mean())))
-    print(f"facetool infer on the {len(photos)} photos padded by a quarter of their width -> {out}",
-          flush=True)
-    run_facetool([facetool, "infer", *[os.path.join(padded_in, stem + ".png") for _, stem, _ in photos],
-                  "-o", raw_out], os.path.join(pred, "infer-padded.log"))
-    for _, stem, _ in photos:
-        path = os.path.join(raw_out, stem, "photo.exr")
-        if not os.path.exists(path):
-            continue
-        n, valid = read_normal_prediction(path)
-        p, (h, w) = pad[stem]
-        n = np.where(valid[:, :, None], n, 0.0)[p:p + h, p:p + w]
-        os.makedirs(os.path.join(out, stem))
-        write_exr(os.path.join(out, stem, "normal.exr"), n, ("R", "G", "B"))
+    run_padded(args, photos, [facetool, "infer"], "photo.exr", os.path.join(pred, "infer-padded"))
     # Landmarks per subject for the template's alignment: the photos lit near the camera axis.
     out = os.path.join(args.cache, "landmarks")
     if os.path.isdir(out):
@@ -522,17 +494,61 @@ def command_infer(args):
                  os.path.join(args.cache, "landmarks.log"))
 
 
+def make_clean(*folders):
+    for d in folders:
+        if os.path.isdir(d):
+            shutil.rmtree(d)
+        os.makedirs(d)
+
+
+def padded_photos(args, photos):
+    """The evaluation photos padded by a quarter of their width on every side with their mean
+    grey, as 8-bit PNGs in CACHE/padded-photos: the crops are so tight that dlib's HOG detector
+    misses most faces; with a margin it finds more (by half the width: fewer; repeated edge
+    pixels or black: fewer still). Returns {stem: (path, pad, (h, w))}."""
+    folder = os.path.join(args.cache, "padded-photos")
+    os.makedirs(folder, exist_ok=True)
+    out = {}
+    for _, stem, path in photos:
+        img = read_pgm(path)
+        pad = img.shape[1] // 4
+        padded = os.path.join(folder, stem + ".png")
+        write_png8(padded, np.pad(img, pad, constant_values=float(img.mean())))
+        out[stem] = (padded, pad, img.shape)
+    return out
+
+
+def run_padded(args, photos, command, result_name, out):
+    """Runs `command PADDED... -o OUT-full` on the padded photos and cuts each result's normals
+    (`result_name` in its folder) back to the photo's frame as OUT/<stem>/normal.exr."""
+    padded = padded_photos(args, photos)
+    full = out + "-full"
+    make_clean(full, out)
+    print(f"{os.path.basename(command[0])} {' '.join(command[1:])} on the {len(photos)} photos "
+          f"padded by a quarter of their width -> {out}", flush=True)
+    run_facetool([*command, *[v[0] for v in padded.values()], "-o", full], out + ".log")
+    for stem, (_, pad, (h, w)) in padded.items():
+        path = os.path.join(full, stem, result_name)
+        if not os.path.exists(path):
+            continue
+        n, valid = read_normal_prediction(path)
+        n = np.where(valid[:, :, None], n, 0.0)[pad:pad + h, pad:pad + w]
+        os.makedirs(os.path.join(out, stem))
+        write_exr(os.path.join(out, stem, "normal.exr"), n, ("R", "G", "B"))
+
+
 def command_fit(args):
     if not args.fit_bin:
         fail("fit needs --fit-bin BIN (a facetool with the `fit` command)")
+    if not os.path.isdir(args.face_model):
+        fail(f"no ICT-FaceKit model folder at {args.face_model} (pass --face-model DIR)")
     photos = eval_photos(args.data)
+    command = [args.fit_bin, "fit", "--face-model", args.face_model, *(args.fit_args or "").split()]
     out = os.path.join(args.cache, "pred", "fit")
-    if os.path.isdir(out):
-        shutil.rmtree(out)
-    os.makedirs(out)
-    print(f"facetool fit on {len(photos)} photos -> {out}", flush=True)
-    run_facetool([args.fit_bin, "fit", *[p for _, _, p in photos], "-o", out],
-                 os.path.join(args.cache, "pred", "fit.log"))
+    make_clean(out)
+    print(f"{' '.join(command[1:])} on {len(photos)} photos -> {out}", flush=True)
+    run_facetool([*command, *[p for _, _, p in photos], "-o", out], out + ".log")
+    run_padded(args, photos, command, "normal.exr", os.path.join(args.cache, "pred", "fit-padded"))
 
 
 # ------------------------------------------------------------------------------ the template
@@ -641,7 +657,7 @@ def angular_error_deg(pred, truth):
 def summarise(per_photo, mask_pixels):
     """The paper's Table 1 figures from [angle arrays, one per scored photo]: mean and std over
     photos of the per-photo mean error, and the percentage of all scored pixels under 20, 25
-    and 30 degrees; coverage = scored pixels / reliability-mask pixels."""
+    and 30 degrees; coverage = scored pixels / evaluation-mask pixels of all the photos."""
     scored = [a for a in per_photo if a.size]
     if not scored:
         return {"photos": 0, "coverage": 0.0}
@@ -705,7 +721,7 @@ def command_score(args):
     print(f"evaluation mask: {100 * kept:.1f} % of the reliability mask (the rest lacks a template)")
     candidates = list(args.pred or [])
     if not candidates:
-        for name in ("infer", "infer-padded", "infer-aligned", "fit"):
+        for name in ("infer", "infer-padded", "infer-aligned", "fit", "fit-padded"):
             folder = os.path.join(args.cache, "pred", name)
             if os.path.isdir(folder):
                 candidates.append(f"{name}={folder}")
@@ -716,11 +732,12 @@ def command_score(args):
 
     def score(label, predict):
         """predict(subject, stem) -> (normals, valid) or None; scores all evaluation photos."""
-        angles, total, by_light = [], 0, {}
+        angles, total, total_found, by_light = [], 0, 0, {}
         for s, stem, _ in photos:
             truth, mask = refs[s][0], masks[s]
             total += int(mask.sum())
             got = predict(s, stem)
+            total_found += int(mask.sum()) if got is not None else 0
             sel = mask & got[1] if got is not None else np.zeros_like(mask)
             a = angular_error_deg(got[0][sel], truth[sel]) if got is not None else np.zeros(0)
             angles.append(a)
@@ -728,7 +745,9 @@ def command_score(args):
             by_light.setdefault(light, ([], [0]))
             by_light[light][0].append(a)
             by_light[light][1][0] += int(mask.sum())
-        rows.append((label, summarise(angles, total)))
+        summary = summarise(angles, total)
+        summary["coverage_in_found"] = summary["coverage"] * total / total_found if total_found else 0.0
+        rows.append((label, summary))
         per_light[label] = {k: summarise(v[0], v[1][0]) for k, v in sorted(by_light.items())}
 
     score("constant normal (0,0,1)", lambda s, stem: (constant, np.ones(constant.shape[:2], bool)))
@@ -758,13 +777,15 @@ def command_score(args):
              + ", ".join(eval_stem('', a, e).split('_P00')[1] for a, e in EVAL_LIGHTS)
              + f"), scored inside the evaluation mask (the PS reliability mask where the template "
              f"is defined: {100 * kept:.1f} % of it)", "",
-             "| normals | photos scored | coverage | mean ± std (°) | < 20° | < 25° | < 30° |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+             "| normals | photos scored | coverage | in those photos | mean ± std (°) | < 20° | < 25° "
+             "| < 30° |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for label, r in rows:
         if r["photos"] == 0:
-            lines.append(f"| {label} | 0 | 0 % | – | – | – | – |")
+            lines.append(f"| {label} | 0 | 0 % | – | – | – | – | – |")
             continue
         lines.append(f"| {label} | {r['photos']} | {100 * r['coverage']:.1f} % | "
+                     f"{100 * r['coverage_in_found']:.1f} % | "
                      f"{r['mean']:.1f} ± {r['std']:.1f} | {r['under20']:.1f} % | "
                      f"{r['under25']:.1f} % | {r['under30']:.1f} % |")
     order = [eval_stem("", a, e).split("_P00")[1] for a, e in EVAL_LIGHTS]
@@ -794,6 +815,10 @@ def main():
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
     p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")
+    p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
+                   help="the ICT-FaceKit FaceXModel folder for fit (default: ../shared's)")
+    p.add_argument("--fit-args", help="more options for fit, one string (e.g. '--camera orthographic')")
+
     p = sub.add_parser("score", help="score the predictions against the PS normals")
     p.add_argument("--pred", action="append", metavar="NAME=DIR",
                    help="a folder of DIR/<photo stem>/normal.exr (or photo.exr); repeatable "
@@ -803,6 +828,10 @@ def main():
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--fit-bin", help="a facetool program with the fit command")
     p.add_argument("--fit-dir", help="a folder of <photo stem>/normal.exr to score as 'fit'")
+    p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
+                   help="the ICT-FaceKit FaceXModel folder for fit (default: ../shared's)")
+    p.add_argument("--fit-args", help="more options for fit, one string (e.g. '--camera orthographic')")
+
     p.add_argument("--markdown", help="also write the tables to this file")
     args = parser.parse_args()
     if args.command == "ps":
