@@ -3,6 +3,7 @@
 
 #include "backends/cpu/cpu_backend_impl.h"
 #include "core/util/parallel_for.h"
+#include "core/util/vector_clones.h"
 
 namespace facetool::cpu {
 namespace {
@@ -26,6 +27,22 @@ double lane_sum(const float* v, int64_t m, Term term) {
   for (; i < m; ++i) total += term(v[i]);
   for (float lane : lanes) total += lane;
   return total;
+}
+
+// out = in * a + b, then the leaky ReLU of `slope` when `leaky` (in and out never overlap).
+FACETOOL_VECTOR_CLONES
+void affine_plane(const float* __restrict in, int64_t m, float a, float b, bool leaky,
+                  float slope, float* __restrict out) {
+  if (leaky) {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i) {
+      const float v = in[i] * a + b;
+      out[i] = v > 0.0f ? v : slope * v;
+    }
+  } else {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i) out[i] = in[i] * a + b;
+  }
 }
 
 // The batch norm, followed by a leaky ReLU of `slope` when `leaky`, in the same pass.
@@ -74,41 +91,39 @@ void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
       const float a = pg[c] * invstd;
       const float b = pbeta[c] - mean * a;
       for (int64_t n = 0; n < s.n(); ++n) {
-        const float* in = px + (n * s.c() + c) * plane;
-        float* out = py + (n * s.c() + c) * plane;
-        if (leaky) {
-          for (int64_t i = 0; i < plane; ++i) {
-            const float v = in[i] * a + b;
-            out[i] = v > 0.0f ? v : slope * v;
-          }
-        } else {
-          for (int64_t i = 0; i < plane; ++i) out[i] = in[i] * a + b;
-        }
+        const int64_t o = (n * s.c() + c) * plane;
+        affine_plane(px + o, plane, a, b, leaky, slope, py + o);
       }
     }
   });
 }
 
-// One plane's sum(g) and sum(g * xhat), g = dy (times the leaky ReLU's derivative read from the
-// activation's output `a` when kActivated), in 16 float lanes so the loop vectorises.
-template <bool kActivated>
-void plane_sums(const float* in, const float* dy, const float* a, int64_t m, float mean,
-                float invstd, float slope, double& sum_dy, double& sum_dy_xhat) {
+// One plane's sum(g) and sum(g * xhat), g = dy, times the leaky ReLU's derivative read from the
+// activation's output `a` (nullptr: none), in 16 float lanes so the loops vectorise.
+FACETOOL_VECTOR_CLONES
+void plane_sums(const float* __restrict in, const float* __restrict dy,
+                const float* __restrict a, int64_t m, float mean, float invstd, float slope,
+                double& sum_dy, double& sum_dy_xhat) {
   constexpr int kLanes = 16;
   float lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
-  int64_t i = 0;
-  for (; i + kLanes <= m; i += kLanes) {
-    for (int l = 0; l < kLanes; ++l) {
-      float g = dy[i + l];
-      if (kActivated) g = a[i + l] > 0.0f ? g : slope * g;
-      lanes_dy[l] += g;
-      lanes_dy_xhat[l] += g * ((in[i + l] - mean) * invstd);
-    }
+  const int64_t whole = m / kLanes * kLanes;
+  if (a) {
+    for (int64_t i = 0; i < whole; i += kLanes)
+      for (int l = 0; l < kLanes; ++l) {
+        const float g = a[i + l] > 0.0f ? dy[i + l] : slope * dy[i + l];
+        lanes_dy[l] += g;
+        lanes_dy_xhat[l] += g * ((in[i + l] - mean) * invstd);
+      }
+  } else {
+    for (int64_t i = 0; i < whole; i += kLanes)
+      for (int l = 0; l < kLanes; ++l) {
+        lanes_dy[l] += dy[i + l];
+        lanes_dy_xhat[l] += dy[i + l] * ((in[i + l] - mean) * invstd);
+      }
   }
   double total_dy = 0.0, total_dy_xhat = 0.0;
-  for (; i < m; ++i) {
-    float g = dy[i];
-    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
+  for (int64_t i = whole; i < m; ++i) {
+    const float g = !a || a[i] > 0.0f ? dy[i] : slope * dy[i];
     total_dy += g;
     total_dy_xhat += g * ((in[i] - mean) * invstd);
   }
@@ -120,19 +135,26 @@ void plane_sums(const float* in, const float* dy, const float* a, int64_t m, flo
   sum_dy_xhat += total_dy_xhat;
 }
 
-// One plane of dx (+)= scale * (g - mean_dy - xhat * mean_dy_xhat).
-template <bool kActivated, bool kAccumulate>
+// One plane of dx (+)= scale * (g - mean_dy - xhat * mean_dy_xhat), g as in plane_sums.
+FACETOOL_VECTOR_CLONES
 void plane_dx(const float* __restrict in, const float* __restrict dy, const float* __restrict a,
               int64_t m, float mean, float invstd, float slope, float scale, float mean_dy,
-              float mean_dy_xhat, float* __restrict out) {
-  for (int64_t i = 0; i < m; ++i) {
-    float g = dy[i];
-    if (kActivated) g = a[i] > 0.0f ? g : slope * g;
-    const float value = scale * (g - mean_dy - (in[i] - mean) * invstd * mean_dy_xhat);
-    if (kAccumulate)
-      out[i] += value;
-    else
-      out[i] = value;
+              float mean_dy_xhat, bool accumulate, float* __restrict out) {
+  const float k = invstd * mean_dy_xhat;
+  if (a && accumulate) {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i)
+      out[i] += scale * ((a[i] > 0.0f ? dy[i] : slope * dy[i]) - mean_dy - (in[i] - mean) * k);
+  } else if (a) {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i)
+      out[i] = scale * ((a[i] > 0.0f ? dy[i] : slope * dy[i]) - mean_dy - (in[i] - mean) * k);
+  } else if (accumulate) {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i) out[i] += scale * (dy[i] - mean_dy - (in[i] - mean) * k);
+  } else {
+    FACETOOL_NO_ALIAS_LOOP
+    for (int64_t i = 0; i < m; ++i) out[i] = scale * (dy[i] - mean_dy - (in[i] - mean) * k);
   }
 }
 
@@ -162,12 +184,8 @@ void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save
       double sum_dy = 0.0, sum_dy_xhat = 0.0;
       for (int64_t n = 0; n < s.n(); ++n) {
         const int64_t offset = (n * s.c() + c) * plane;
-        if (pa)
-          plane_sums<true>(px + offset, pdy + offset, pa + offset, plane, mean, invstd, slope,
-                           sum_dy, sum_dy_xhat);
-        else
-          plane_sums<false>(px + offset, pdy + offset, nullptr, plane, mean, invstd, slope,
-                            sum_dy, sum_dy_xhat);
+        plane_sums(px + offset, pdy + offset, pa ? pa + offset : nullptr, plane, mean, invstd,
+                   slope, sum_dy, sum_dy_xhat);
       }
       if (pdb) store(pdb[c], static_cast<float>(sum_dy), accumulate);
       if (pdg) store(pdg[c], static_cast<float>(sum_dy_xhat), accumulate);
@@ -178,19 +196,8 @@ void normalize_backward(const Tensor& x, const Tensor& gamma, const Tensor& save
       const float mean_dy_xhat = p.training ? static_cast<float>(sum_dy_xhat / count) : 0.0f;
       for (int64_t n = 0; n < s.n(); ++n) {
         const int64_t o = (n * s.c() + c) * plane;
-        const float* a = pa ? pa + o : nullptr;
-        if (pa && accumulate)
-          plane_dx<true, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
-                               mean_dy_xhat, pdx + o);
-        else if (pa)
-          plane_dx<true, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
-                                mean_dy_xhat, pdx + o);
-        else if (accumulate)
-          plane_dx<false, true>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
-                                mean_dy_xhat, pdx + o);
-        else
-          plane_dx<false, false>(px + o, pdy + o, a, plane, mean, invstd, slope, scale, mean_dy,
-                                 mean_dy_xhat, pdx + o);
+        plane_dx(px + o, pdy + o, pa ? pa + o : nullptr, plane, mean, invstd, slope, scale,
+                 mean_dy, mean_dy_xhat, accumulate, pdx + o);
       }
     }
   });
