@@ -2,7 +2,7 @@
 #
 # The layers above libfacetool_core (I/O, lights, models, synthesis, data, faces, ranks, training,
 # inference, relighting) are static libraries linked into the facetool program and the tests;
-# each sits in its own folder under core/ and links only what it needs (docs/architecture.md).
+# each sits in its own folder under libs/ and links only what it needs (docs/architecture.md).
 # `facetool_libraries` (an interface target made by facetool_finish_libraries) links all of them.
 function(facetool_add_library name)
   cmake_parse_arguments(LIB "" "" "SOURCES;DEPENDS" ${ARGN})

@@ -3,7 +3,7 @@
 # models, and the SDK (headers, CMake package, pkg-config); cpack -G DEB makes the packages
 # facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
 #   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules>
-#   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  include/facetool/core/...
+#   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  include/facetool/{core,libs}/...
 #   lib/cmake/facetool/  lib/pkgconfig/facetool.pc
 # The loaders search relative to the executable and to libfacetool_core, so a prefix works
 # wherever it is unpacked (RPATHs are $ORIGIN-relative).
@@ -37,7 +37,7 @@ foreach(library ${api_libraries})
   list(APPEND api_headers ${headers})
 endforeach()
 foreach(header ${api_headers})
-  file(STRINGS ${header} third_party REGEX "#include <(OpenImageIO|embree|dlib|mpi|boost|nlohmann)|#include \"core/io/image_encoding.h\"")
+  file(STRINGS ${header} third_party REGEX "#include <(OpenImageIO|embree|dlib|mpi|boost|nlohmann)|#include \"libs/io/image_encoding.h\"")
   if(third_party)
     continue()
   endif()

@@ -1,4 +1,4 @@
-// Integrating equirectangular maps against the SH per pixel (files are read by core/light).
+// Integrating equirectangular maps against the SH per pixel (files are read by libs/light).
 #include "core/sh/envmap_projection.h"
 
 #include <cmath>

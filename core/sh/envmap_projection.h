@@ -1,4 +1,4 @@
-// Equirectangular environment maps projected to 27 SH coefficients (files: core/light).
+// Equirectangular environment maps projected to 27 SH coefficients (files: libs/light).
 #pragma once
 
 #include <string>

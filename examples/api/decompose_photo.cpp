@@ -4,12 +4,12 @@
 #include <iostream>
 
 #include "core/backend/registry.h"
-#include "core/face/face_detector.h"
-#include "core/inference/decomposer.h"
-#include "core/inference/model_loading.h"
-#include "core/io/image_io.h"
-#include "core/photo/photo_pipeline.h"
-#include "core/photo/relight_pipeline.h"
+#include "libs/face/face_detector.h"
+#include "libs/inference/decomposer.h"
+#include "libs/inference/model_loading.h"
+#include "libs/io/image_io.h"
+#include "libs/photo/photo_pipeline.h"
+#include "libs/photo/relight_pipeline.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) {

@@ -11,11 +11,11 @@
 
 #include "core/autograd/synced_batch_norm.h"
 #include "core/backend/registry.h"
-#include "core/distributed/communicator.h"
+#include "libs/distributed/communicator.h"
 #include "core/plugin/plugin_loader.h"
-#include "core/synth/synth_runner.h"
-#include "core/synth/synth_sample.h"
-#include "core/train/trainer.h"
+#include "libs/synth/synth_runner.h"
+#include "libs/synth/synth_sample.h"
+#include "libs/train/trainer.h"
 #include "synth_test_support.h"
 #include "tests/support/test_support.h"
 

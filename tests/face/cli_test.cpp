@@ -9,9 +9,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/face/face_detector.h"
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
+#include "libs/face/face_detector.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
 
 namespace fs = std::filesystem;
 

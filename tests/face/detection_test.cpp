@@ -11,11 +11,11 @@
 #include <memory>
 #include <sstream>
 
-#include "core/face/detection_bands.h"
-#include "core/face/detection_summary.h"
-#include "core/face/face_alignment.h"
-#include "core/face/face_detector.h"
-#include "core/face/photo_reader.h"
+#include "libs/face/detection_bands.h"
+#include "libs/face/detection_summary.h"
+#include "libs/face/face_alignment.h"
+#include "libs/face/face_detector.h"
+#include "libs/face/photo_reader.h"
 #include "core/util/error.h"
 
 namespace facetool {

@@ -6,13 +6,13 @@
 #include <filesystem>
 #include <random>
 
-#include "core/face/face_alignment.h"
-#include "core/face/face_mask.h"
-#include "core/face/face_template.h"
-#include "core/face/frame_rotation.h"
-#include "core/face/paste_back.h"
-#include "core/face/photo_reader.h"
-#include "core/synth/landmark_projection.h"
+#include "libs/face/face_alignment.h"
+#include "libs/face/face_mask.h"
+#include "libs/face/face_template.h"
+#include "libs/face/frame_rotation.h"
+#include "libs/face/paste_back.h"
+#include "libs/face/photo_reader.h"
+#include "libs/synth/landmark_projection.h"
 #include "core/sh/sh_eval.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"

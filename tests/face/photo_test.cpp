@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "core/face/face_crops.h"
-#include "core/face/face_detector.h"
-#include "core/face/frame_rotation.h"
+#include "libs/face/face_crops.h"
+#include "libs/face/face_detector.h"
+#include "libs/face/frame_rotation.h"
 #include "core/sh/sh_eval.h"
-#include "core/face/photo_reader.h"
+#include "libs/face/photo_reader.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {

@@ -8,18 +8,18 @@
 #include <filesystem>
 #include <memory>
 
-#include "core/face/face_detector.h"
-#include "core/synth/component_renderer.h"
-#include "core/synth/face_model.h"
-#include "core/synth/light_source.h"
-#include "core/synth/random.h"
-#include "core/synth/sample_generator.h"
+#include "libs/face/face_detector.h"
+#include "libs/synth/component_renderer.h"
+#include "libs/synth/face_model.h"
+#include "libs/synth/light_source.h"
+#include "libs/synth/random.h"
+#include "libs/synth/sample_generator.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {
 namespace {
 
-// Mirrors SampleGenerator::generate's sub-streams (core/synth/sample_generator.cpp): the shape
+// Mirrors SampleGenerator::generate's sub-streams (libs/synth/sample_generator.cpp): the shape
 // comes from stream 1, the pose from stream 3. The depth check below fails if they drift apart.
 constexpr uint64_t kShapeStream = 1, kPoseStream = 3;
 

@@ -11,13 +11,13 @@
 #include <filesystem>
 #include <memory>
 
-#include "core/face/face_detector.h"
-#include "core/fit/fit_basis.h"
-#include "core/fit/fit_render.h"
-#include "core/fit/fit_shading.h"
-#include "core/synth/component_renderer.h"
-#include "core/fit/landmark_fit.h"
-#include "core/synth/random.h"
+#include "libs/face/face_detector.h"
+#include "libs/fit/fit_basis.h"
+#include "libs/fit/fit_render.h"
+#include "libs/fit/fit_shading.h"
+#include "libs/synth/component_renderer.h"
+#include "libs/fit/landmark_fit.h"
+#include "libs/synth/random.h"
 #include "synthetic_faces.h"
 
 namespace facetool {

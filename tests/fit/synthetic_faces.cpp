@@ -5,8 +5,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/synth/random.h"
-#include "core/synth/ray_scene.h"
+#include "libs/synth/random.h"
+#include "libs/synth/ray_scene.h"
 
 namespace facetool::testing {
 

@@ -5,11 +5,11 @@
 #include <memory>
 #include <string>
 
-#include "core/face/point2.h"
-#include "core/io/image_io.h"
-#include "core/synth/face_model.h"
-#include "core/synth/gbuffer.h"
-#include "core/synth/pose_camera.h"
+#include "libs/face/point2.h"
+#include "libs/io/image_io.h"
+#include "libs/synth/face_model.h"
+#include "libs/synth/gbuffer.h"
+#include "libs/synth/pose_camera.h"
 
 namespace facetool::testing {
 

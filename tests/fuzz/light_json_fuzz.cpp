@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/light/light_formats.h"
+#include "libs/light/light_formats.h"
 #include "core/util/error.h"
 #include "tests/fuzz/fuzz_support.h"
 

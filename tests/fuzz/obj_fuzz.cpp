@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/io/obj_reader.h"
+#include "libs/io/obj_reader.h"
 #include "core/util/error.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "core/io/layered_image.h"
-#include "core/light/light_formats.h"
-#include "core/synth/synth_sample.h"
+#include "libs/io/layered_image.h"
+#include "libs/light/light_formats.h"
+#include "libs/synth/synth_sample.h"
 #include "core/util/error.h"
 
 namespace facetool {

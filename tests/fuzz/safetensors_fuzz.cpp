@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/model/safetensors.h"
+#include "libs/model/safetensors.h"
 #include "core/util/error.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "core/io/layered_image.h"
-#include "core/synth/synth_sample.h"
+#include "libs/io/layered_image.h"
+#include "libs/synth/synth_sample.h"
 #include "core/util/error.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -1,7 +1,7 @@
 // resize_planar: exact block averages when shrinking by whole factors, bilinear when enlarging.
 #include <gtest/gtest.h>
 
-#include "core/image/resize.h"
+#include "libs/image/resize.h"
 #include "core/util/error.h"
 #include "tests/support/test_support.h"
 

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/light/light_formats.h"
-#include "core/model/safetensors.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/light/light_formats.h"
+#include "libs/model/safetensors.h"
 
 namespace fs = std::filesystem;
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/light/light_formats.h"
-#include "core/synth/light_source.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/light/light_formats.h"
+#include "libs/synth/light_source.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"

@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "core/io/image_encoding.h"
-#include "core/io/image_io.h"
-#include "core/io/jpeg_check.h"
-#include "core/light/light_formats.h"
-#include "core/model/safetensors.h"
-#include "core/train/training_config.h"
+#include "libs/io/image_encoding.h"
+#include "libs/io/image_io.h"
+#include "libs/io/jpeg_check.h"
+#include "libs/light/light_formats.h"
+#include "libs/model/safetensors.h"
+#include "libs/train/training_config.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"

@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <string>
 
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/light/light_formats.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/light/light_formats.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "tests/support/error_text.h"

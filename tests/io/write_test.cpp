@@ -10,9 +10,9 @@
 #include <string>
 
 #include "core/util/atomic_file.h"
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/light/light_formats.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/light/light_formats.h"
 #include "core/util/error.h"
 #include "tests/support/temp_folder_test.h"
 

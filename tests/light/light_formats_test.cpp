@@ -10,7 +10,7 @@
 
 #include <unistd.h>
 
-#include "core/light/light_formats.h"
+#include "libs/light/light_formats.h"
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"

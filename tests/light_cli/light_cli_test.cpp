@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "core/backend/registry.h"
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/light/light_formats.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/light/light_formats.h"
 #include "core/sh/light_clamp.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/math_constants.h"

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/model/safetensors.h"
+#include "libs/model/safetensors.h"
 #include "core/util/error.h"
 
 namespace facetool {

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "core/autograd/functions.h"
-#include "core/model/network_weights.h"
+#include "libs/model/network_weights.h"
 #include "core/ops/ops.h"
 #include "core/plugin/network_plugin.h"
 #include "core/plugin/plugin_loader.h"

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/relight/relight_math.h"
+#include "libs/relight/relight_math.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_rotation.h"
 #include "core/util/error.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <memory>
 
-#include "core/photo/relight_pipeline.h"
+#include "libs/photo/relight_pipeline.h"
 #include "core/backend/registry.h"
 #include "core/plugin/plugin_loader.h"
 #include "core/sh/clamped_cosine.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/light/environment_map_file.h"
+#include "libs/light/environment_map_file.h"
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"

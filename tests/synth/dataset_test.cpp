@@ -3,9 +3,9 @@
 #include <set>
 
 #include "core/backend/registry.h"
-#include "core/data/dataset_reader.h"
-#include "core/synth/gbuffer.h"
-#include "core/synth/synth_runner.h"
+#include "libs/data/dataset_reader.h"
+#include "libs/synth/gbuffer.h"
+#include "libs/synth/synth_runner.h"
 #include "core/util/error.h"
 #include "synth_test_support.h"
 

@@ -1,8 +1,8 @@
 // Missing or broken inputs give facetool::Error messages that name the file and what to do.
 #include <filesystem>
 
-#include "core/synth/face_model.h"
-#include "core/synth/light_source.h"
+#include "libs/synth/face_model.h"
+#include "libs/synth/light_source.h"
 #include "core/util/error.h"
 #include "synth_test_support.h"
 

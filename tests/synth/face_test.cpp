@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/io/exr_io.h"
+#include "libs/io/exr_io.h"
 #include "core/sh/light_clamp.h"
-#include "core/synth/gbuffer.h"
-#include "core/synth/sample_generator.h"
+#include "libs/synth/gbuffer.h"
+#include "libs/synth/sample_generator.h"
 #include "synth_test_support.h"
 #include "core/util/math_constants.h"
 

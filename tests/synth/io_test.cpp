@@ -1,9 +1,9 @@
-// core/io: OBJ parsing (quads, vertex-only files, relative indices, errors) and EXR round trips.
+// libs/io: OBJ parsing (quads, vertex-only files, relative indices, errors) and EXR round trips.
 #include <cmath>
 
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
-#include "core/io/obj_reader.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/io/obj_reader.h"
 #include "core/util/error.h"
 #include "synth_test_support.h"
 

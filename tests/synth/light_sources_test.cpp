@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "core/sh/envmap_projection.h"
-#include "core/synth/light_source.h"
+#include "libs/synth/light_source.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "core/synth/synth_runner.h"
+#include "libs/synth/synth_runner.h"
 #include "synth_test_support.h"
 
 namespace facetool {

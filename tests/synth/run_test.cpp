@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "core/util/atomic_file.h"
-#include "core/io/image_io.h"
-#include "core/synth/synth_runner.h"
+#include "libs/io/image_io.h"
+#include "libs/synth/synth_runner.h"
 #include "core/util/shard.h"
 #include "core/util/error.h"
 #include "synth_test_support.h"

@@ -8,8 +8,8 @@
 #include "core/sh/clamped_cosine.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sh_eval.h"
-#include "core/io/image_io.h"
-#include "core/synth/sample_generator.h"
+#include "libs/io/image_io.h"
+#include "libs/synth/sample_generator.h"
 #include "synth_test_support.h"
 
 namespace facetool {
@@ -207,7 +207,7 @@ TEST_F(SphereUnderKnownLight, BackgroundFolderFillsEverythingOutsideTheHead) {
 #include "core/backend/registry.h"
 #include "core/plugin/plugin_loader.h"
 #include "core/plugin/renderer_plugin.h"
-#include "core/synth/plugin_renderer.h"
+#include "libs/synth/plugin_renderer.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "core/synth/face_mesh.h"
+#include "libs/synth/face_mesh.h"
 
 namespace facetool::testing {
 

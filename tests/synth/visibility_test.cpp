@@ -5,8 +5,8 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"
-#include "core/synth/ray_scene.h"
-#include "core/synth/visibility.h"
+#include "libs/synth/ray_scene.h"
+#include "libs/synth/visibility.h"
 #include "synth_test_support.h"
 #include "core/util/math_constants.h"
 

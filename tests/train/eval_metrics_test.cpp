@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/train/eval_metrics.h"
+#include "libs/train/eval_metrics.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {

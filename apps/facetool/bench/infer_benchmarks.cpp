@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "core/photo/photo_files.h"
+#include "libs/photo/photo_files.h"
 #include "core/util/output_names.h"
 #include "core/util/stage_timer.h"
 

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "core/backend/backend.h"
-#include "core/inference/decomposer.h"
-#include "core/photo/photo_pipeline.h"
+#include "libs/inference/decomposer.h"
+#include "libs/photo/photo_pipeline.h"
 
 namespace facetool {
 

@@ -10,7 +10,7 @@
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
 #include "core/ops/ops.h"
-#include "core/train/adam_optimizer.h"
+#include "libs/train/adam_optimizer.h"
 
 namespace facetool {
 namespace {

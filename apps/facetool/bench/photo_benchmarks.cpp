@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/face/face_crops.h"
-#include "core/face/frame_rotation.h"
-#include "core/face/landmark_drawing.h"
-#include "core/face/paste_back.h"
-#include "core/face/photo_reader.h"
+#include "libs/face/face_crops.h"
+#include "libs/face/frame_rotation.h"
+#include "libs/face/landmark_drawing.h"
+#include "libs/face/paste_back.h"
+#include "libs/face/photo_reader.h"
 #include "core/util/error.h"
 
 namespace facetool {

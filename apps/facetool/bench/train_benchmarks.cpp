@@ -12,9 +12,9 @@
 #include <unistd.h>
 
 #include "core/autograd/functions.h"
-#include "core/synth/synth_sample.h"
-#include "core/distributed/communicator.h"
-#include "core/train/trainer.h"
+#include "libs/synth/synth_sample.h"
+#include "libs/distributed/communicator.h"
+#include "libs/train/trainer.h"
 
 namespace facetool {
 namespace {

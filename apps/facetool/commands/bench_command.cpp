@@ -15,7 +15,7 @@
 #include "apps/facetool/bench/photo_benchmarks.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
-#include "core/model/default_model.h"
+#include "libs/model/default_model.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "core/backend/registry.h"
 #include "core/util/error.h"

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/image/resize.h"
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
+#include "libs/image/resize.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 

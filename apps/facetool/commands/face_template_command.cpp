@@ -1,11 +1,11 @@
 // `facetool face-template`: derives the canonical 68-point template from the face model and
-// prints it as the table in core/face/face_template.cpp (docs/photos.md, "Template").
+// prints it as the table in libs/face/face_template.cpp (docs/photos.md, "Template").
 #include <iostream>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
-#include "core/face/face_template.h"
-#include "core/synth/landmark_projection.h"
+#include "libs/face/face_template.h"
+#include "libs/synth/landmark_projection.h"
 
 namespace po = boost::program_options;
 

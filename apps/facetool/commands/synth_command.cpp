@@ -9,9 +9,9 @@
 #include "apps/facetool/commands/output_option.h"
 #include "core/backend/registry.h"
 #include "core/plugin/renderer_plugin.h"
-#include "core/synth/plugin_renderer.h"
-#include "core/synth/random.h"
-#include "core/synth/synth_runner.h"
+#include "libs/synth/plugin_renderer.h"
+#include "libs/synth/random.h"
+#include "libs/synth/synth_runner.h"
 #include "core/util/shard.h"
 #include "core/util/progress_bar.h"
 

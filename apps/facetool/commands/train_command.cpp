@@ -9,9 +9,9 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
-#include "core/distributed/communicator.h"
-#include "core/train/trainer.h"
-#include "core/train/training_run.h"
+#include "libs/distributed/communicator.h"
+#include "libs/train/trainer.h"
+#include "libs/train/training_run.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;

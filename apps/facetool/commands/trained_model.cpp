@@ -6,8 +6,8 @@
 
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/network_loading.h"
-#include "core/io/exr_io.h"
-#include "core/io/image_io.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
 
 namespace facetool {
 

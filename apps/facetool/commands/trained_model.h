@@ -7,7 +7,7 @@
 
 #include "apps/facetool/commands/command.h"
 #include "core/backend/backend.h"
-#include "core/io/layered_image.h"
+#include "libs/io/layered_image.h"
 #include "core/plugin/network_plugin.h"
 
 namespace facetool {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "apps/facetool/commands/command_options.h"
-#include "core/fit/photo_fit.h"
+#include "libs/fit/photo_fit.h"
 
 namespace facetool {
 

@@ -1,7 +1,7 @@
 // The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
 #include "apps/facetool/infer/network_loading.h"
 
-#include "core/model/default_model.h"
+#include "libs/model/default_model.h"
 
 namespace po = boost::program_options;
 

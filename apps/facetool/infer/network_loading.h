@@ -9,7 +9,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/backend.h"
-#include "core/inference/model_loading.h"
+#include "libs/inference/model_loading.h"
 #include "core/plugin/network_plugin.h"
 
 namespace facetool {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "apps/facetool/commands/command_options.h"
-#include "core/photo/photo_pipeline.h"
+#include "libs/photo/photo_pipeline.h"
 
 namespace facetool {
 

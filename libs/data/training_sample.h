@@ -1,0 +1,29 @@
+// TrainingSample: the planes a training batch needs, read from a synthetic or a real sample EXR.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "libs/io/sample_files.h"
+
+namespace facetool {
+
+// Planar [channels][height * width]. Real samples without labels have `labelled` false and
+// albedo, normal, visibility and light filled with zeros.
+struct TrainingSample {
+  int width = 0, height = 0;
+  std::vector<float> image, albedo, normal, mask, visibility, light;  // light: 27
+  bool labelled = false;
+  bool real = false;
+};
+
+// Reads a synthetic sample (facetool synth) or a real one (generator facetool-real-1: channels
+// R G B mask, and when pseudo-labelled albedo.R/G/B normal.X/Y/Z visibility.0..8 plus the
+// facetool:light_sh attribute). With `need_labels`, a real sample without labels is an error
+// naming the file and saying to run `facetool pseudo-label`.
+TrainingSample read_training_sample(const std::string& path, bool need_labels);
+
+// Width and height from the file's header.
+void read_training_sample_size(const std::string& path, int& width, int& height);
+
+}  // namespace facetool

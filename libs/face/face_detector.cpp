@@ -1,0 +1,431 @@
+// FaceDetector on dlib: HOG and CNN detection in size bands on a padded, scaled copy, shape
+// prediction at full size.
+#include "libs/face/face_detector.h"
+
+#include <dlib/image_processing.h>
+#include <dlib/image_processing/frontal_face_detector.h>
+#include <dlib/image_transforms.h>
+#include <dlib/serialize.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+
+#include "libs/face/detection_bands.h"
+#include "core/util/error.h"
+#include "core/util/math_constants.h"
+#include "core/util/file_checks.h"
+#include "core/util/stage_timer.h"
+
+namespace facetool {
+
+const char* const kDefaultLandmarkModel = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat";
+
+const char* detector_choice_name(DetectorChoice choice) {
+  switch (choice) {
+    case DetectorChoice::hog: return "hog";
+    case DetectorChoice::cnn: return "cnn";
+    case DetectorChoice::automatic: return "auto";
+  }
+  return "?";
+}
+
+DetectorChoice parse_detector_choice(const std::string& name) {
+  if (name == "hog") return DetectorChoice::hog;
+  if (name == "cnn") return DetectorChoice::cnn;
+  if (name == "auto") return DetectorChoice::automatic;
+  fail("unknown face detector '", name, "': use hog, cnn or auto");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// sRGB-encoded 8-bit luma (Rec. 709 weights on the linear values), what dlib's models expect.
+void to_grey(const RgbImage& photo, dlib::array2d<unsigned char>& grey) {
+  grey.set_size(photo.height, photo.width);
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x) {
+      const float* p = photo.at(x, y);
+      const float luma = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+      grey[y][x] = static_cast<unsigned char>(std::lround(linear_to_srgb(luma) * 255.0f));
+    }
+}
+
+Landmarks68 to_landmarks(const dlib::full_object_detection& shape) {
+  check(shape.num_parts() == kLandmarkCount, "the landmark model gives ", shape.num_parts(),
+        " points; facetool needs a 68-point model");
+  Landmarks68 out;
+  for (int i = 0; i < kLandmarkCount; ++i)
+    out[i] = {static_cast<double>(shape.part(i).x()), static_cast<double>(shape.part(i).y())};
+  return out;
+}
+
+}  // namespace
+
+
+struct FaceDetector::Impl {
+  dlib::frontal_face_detector hog = dlib::get_frontal_face_detector();
+  dlib::frontal_face_detector hog_band;  // the same filters, searching 4 pyramid levels only
+  dlib::shape_predictor predictor;
+  std::string cnn_model;
+  std::unique_ptr<CnnFaceDetector> cnn;  // read on first use
+};
+
+FaceDetector::FaceDetector(const std::string& landmark_model, const std::string& cnn_model)
+    : impl_(std::make_unique<Impl>()) {
+  std::error_code error;
+  check(std::filesystem::exists(landmark_model, error) || error, "landmark model '", landmark_model,
+        "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
+        "--landmark-model FILE");
+  check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
+  try {
+    dlib::deserialize(landmark_model) >> impl_->predictor;
+  } catch (const std::exception& e) {
+    fail("cannot read landmark model '", landmark_model, "': ", e.what(),
+         " (expected dlib's shape_predictor_68_face_landmarks.dat)");
+  }
+  check(impl_->predictor.num_parts() == kLandmarkCount, "landmark model '", landmark_model,
+        "' predicts ", impl_->predictor.num_parts(), " points; facetool needs the 68-point model");
+  dlib::frontal_face_detector::image_scanner_type scanner;
+  scanner.copy_configuration(impl_->hog.get_scanner());
+  scanner.set_max_pyramid_levels(4);  // 1, 5/6, (5/6)^2, (5/6)^3: one octave of face sizes
+  std::vector<dlib::frontal_face_detector::feature_vector_type> filters;
+  for (unsigned long i = 0; i < impl_->hog.num_detectors(); ++i) filters.push_back(impl_->hog.get_w(i));
+  impl_->hog_band = dlib::frontal_face_detector(scanner, impl_->hog.get_overlap_tester(), filters);
+  impl_->cnn_model = cnn_model;
+}
+
+FaceDetector::~FaceDetector() = default;
+
+void FaceDetector::prepare(DetectorChoice choice) {
+  if (choice != DetectorChoice::hog && !impl_->cnn)
+    impl_->cnn = std::make_unique<CnnFaceDetector>(impl_->cnn_model);
+}
+
+namespace {
+
+constexpr double kWindow = 80;  // both detectors' window, pixels
+
+// The shape predictor is most accurate on upright faces: when the eye line of a first fit is
+// tilted by more than kRefitRollDeg, fit again on a chip of the photo turned upright around the
+// face and map the points back.
+constexpr double kRefitRollDeg = 8;
+
+void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
+                   const dlib::drectangle& box, Landmarks68& landmarks) {
+  Point2 left, right;
+  for (int i = 36; i < 42; ++i) {
+    left.x += landmarks[i].x / 6;
+    left.y += landmarks[i].y / 6;
+    right.x += landmarks[i + 6].x / 6;
+    right.y += landmarks[i + 6].y / 6;
+  }
+  const double roll = std::atan2(right.y - left.y, right.x - left.x);
+  if (std::abs(roll) < kRefitRollDeg * kPi / 180) return;
+  const dlib::dpoint centre = dlib::center(box);
+  const double size = std::max(box.width(), box.height());
+  const long chip = std::clamp(std::lround(2 * size), 64L, 800L);  // the box plus a margin
+  const dlib::chip_details details(dlib::centered_drect(centre, 2 * size, 2 * size),
+                                   dlib::chip_dims(chip, chip), roll);
+  dlib::array2d<unsigned char> upright;
+  dlib::extract_image_chip(grey, details, upright);
+  const long quarter = chip / 4;
+  const dlib::full_object_detection shape =
+      predictor(upright, dlib::rectangle(quarter, quarter, chip - quarter, chip - quarter));
+  const dlib::point_transform_affine back = dlib::inv(dlib::get_mapping_to_chip(details));
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    const dlib::dpoint q = back(dlib::dpoint(shape.part(i).x(), shape.part(i).y()));
+    landmarks[i] = {q.x(), q.y()};
+  }
+}
+
+// The landmark model was trained on boxes of dlib's HOG detector. A CNN box (same face) is
+// mapped to that convention: centre moved by (dx, dy) box sizes, side scaled by `scale`; the
+// constants are the median relation of the two detectors' boxes on faces both found
+// (docs/photos.md, "Landmark boxes").
+struct BoxMapping {
+  double dx = 0, dy = 0, scale = 1;
+};
+const BoxMapping kCnnToHog{0.0, 0.0, 1.0};
+
+dlib::drectangle to_hog_convention(const ScoredBox& b, const std::string& detector) {
+  if (detector != "cnn") return dlib::drectangle(b.left, b.top, b.right, b.bottom);
+  const double size = std::max(b.right - b.left, b.bottom - b.top);
+  const double cx = (b.left + b.right) / 2 + kCnnToHog.dx * size;
+  const double cy = (b.top + b.bottom) / 2 + kCnnToHog.dy * size;
+  const double half = kCnnToHog.scale * size / 2;
+  return dlib::drectangle(cx - half, cy - half, cx + half, cy + half);
+}
+
+// The photo as dlib sees it, padded on every side by `pad` pixels of its mean colour.
+struct WorkImage {
+  dlib::array2d<unsigned char> grey;   // sRGB-encoded luma: HOG and the landmark model
+  dlib::array2d<dlib::rgb_pixel> rgb;  // sRGB: the CNN (only when it runs)
+};
+
+WorkImage padded_work_image(const RgbImage& photo, long pad, bool with_rgb) {
+  dlib::array2d<unsigned char> grey;
+  to_grey(photo, grey);
+  WorkImage work;
+  const long w = photo.width, h = photo.height;
+  const double mean_grey = std::accumulate(grey.begin(), grey.end(), 0.0) / (w * h);
+  work.grey.set_size(h + 2 * pad, w + 2 * pad);
+  dlib::assign_all_pixels(work.grey, static_cast<unsigned char>(std::lround(mean_grey)));
+  for (long y = 0; y < h; ++y)
+    for (long x = 0; x < w; ++x) work.grey[y + pad][x + pad] = grey[y][x];
+  if (with_rgb) {
+    double mean[3] = {0, 0, 0};
+    std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
+    for (size_t i = 0; i < srgb.size(); ++i) {
+      srgb[i] = static_cast<unsigned char>(std::lround(linear_to_srgb(std::clamp(photo.pixels[i], 0.0f, 1.0f)) * 255.0f));
+      mean[i % 3] += srgb[i];
+    }
+    const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),
+                               static_cast<unsigned char>(std::lround(mean[1] / (w * h))),
+                               static_cast<unsigned char>(std::lround(mean[2] / (w * h))));
+    work.rgb.set_size(h + 2 * pad, w + 2 * pad);
+    dlib::assign_all_pixels(work.rgb, fill);
+    for (long y = 0; y < h; ++y)
+      for (long x = 0; x < w; ++x) {
+        const unsigned char* p = &srgb[(static_cast<size_t>(y) * w + x) * 3];
+        work.rgb[y + pad][x + pad] = dlib::rgb_pixel(p[0], p[1], p[2]);
+      }
+  }
+  return work;
+}
+
+struct Found {
+  ScoredBox box;  // work-image pixels
+  std::string detector;
+};
+
+// Every face of the upright work image, for faces of `min_size` pixels and more; `found_default`
+// says whether a face of the default minimum size `default_size` or more was found (a decision
+// that must not depend on min_size, or a smaller minimum could take the CNN's faces away).
+std::vector<Found> search_upright(dlib::frontal_face_detector& hog_all_levels,
+                                  dlib::frontal_face_detector& hog_band, const CnnFaceDetector* cnn_detector,
+                                  bool use_cnn, const WorkImage& work,
+                                  const DetectionOptions& options, double min_size,
+                                  double default_size, bool& found_default,
+                                  double& detection_seconds) {
+  const auto start = Clock::now();
+  const double shorter = std::min(work.grey.nr(), work.grey.nc());
+  const std::vector<SizeBand> wanted = size_bands(min_size, shorter, kWindow);
+  const std::vector<SizeBand> all = size_bands(std::min(min_size, default_size), shorter, kWindow);
+  const double default_band = size_bands(default_size, shorter, kWindow).empty()
+                                  ? 1e300
+                                  : size_bands(default_size, shorter, kWindow).back().face_size;
+  auto scaled_boxes = [](std::vector<ScoredBox> boxes, double scale, const SizeBand& band) {
+    std::vector<ScoredBox> kept;
+    for (ScoredBox& b : boxes) {
+      b.left /= scale;
+      b.top /= scale;
+      b.right /= scale;
+      b.bottom /= scale;
+      if (band.holds(b)) kept.push_back(b);
+    }
+    std::sort(kept.begin(), kept.end(), [](const ScoredBox& a, const ScoredBox& b) { return a.score > b.score; });
+    return kept;
+  };
+
+  std::vector<std::vector<ScoredBox>> hog(all.size()), cnn(all.size());
+  found_default = false;
+  const bool run_hog = !use_cnn;
+  for (size_t i = 0; run_hog && i < all.size(); ++i) {
+    const double scale = all[i].scale(kWindow);
+    dlib::array2d<unsigned char> scaled;
+    const dlib::array2d<unsigned char>* image = &work.grey;
+    if (std::abs(scale - 1) > 1e-9) {
+      scaled.set_size(std::max(1L, std::lround(work.grey.nr() * scale)), std::max(1L, std::lround(work.grey.nc() * scale)));
+      dlib::resize_image(work.grey, scaled, dlib::interpolate_bilinear());
+      image = &scaled;
+    }
+    std::vector<dlib::rect_detection> found;
+    (all[i].last ? hog_all_levels : hog_band)(*image, found, options.score_threshold);
+    std::vector<ScoredBox> boxes;
+    for (const dlib::rect_detection& d : found)
+      boxes.push_back({static_cast<double>(d.rect.left()), static_cast<double>(d.rect.top()),
+                       static_cast<double>(d.rect.right() + 1), static_cast<double>(d.rect.bottom() + 1),
+                       d.detection_confidence});
+    hog[i] = scaled_boxes(boxes, scale, all[i]);
+    if (all[i].face_size >= default_band && !hog[i].empty()) found_default = true;
+  }
+  const bool run_cnn = use_cnn;
+  for (size_t i = 0; run_cnn && i < all.size(); ++i) {
+    const double scale = all[i].scale(kWindow);
+    Srgb8Image input;
+    input.height = static_cast<int>(std::max(1L, std::lround(work.rgb.nr() * scale)));
+    input.width = static_cast<int>(std::max(1L, std::lround(work.rgb.nc() * scale)));
+    dlib::array2d<dlib::rgb_pixel> scaled(input.height, input.width);
+    if (std::abs(scale - 1) > 1e-9)
+      dlib::resize_image(work.rgb, scaled, dlib::interpolate_bilinear());
+    else
+      dlib::assign_image(scaled, work.rgb);
+    input.rgb.resize(static_cast<size_t>(input.width) * input.height * 3);
+    for (long y = 0; y < input.height; ++y)
+      for (long x = 0; x < input.width; ++x) {
+        unsigned char* p = &input.rgb[(static_cast<size_t>(y) * input.width + x) * 3];
+        p[0] = scaled[y][x].red;
+        p[1] = scaled[y][x].green;
+        p[2] = scaled[y][x].blue;
+      }
+    cnn[i] = scaled_boxes(cnn_detector->detect(input, options.cnn_score_threshold), scale, all[i]);
+    if (all[i].face_size >= default_band && !cnn[i].empty()) found_default = true;
+  }
+  detection_seconds += seconds_since(start);
+
+  // The wanted bands are the first wanted.size() of `all` (same grid, largest first).
+  std::vector<std::vector<ScoredBox>> groups;
+  std::vector<std::string> names;
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    groups.push_back(hog[i]);
+    names.push_back("hog");
+    groups.push_back(cnn[i]);
+    names.push_back("cnn");
+  }
+  const std::vector<std::vector<bool>> kept = merge_in_order(groups);
+  std::vector<Found> faces;
+  for (const char* detector : {"hog", "cnn"})
+    for (size_t g = 0; g < groups.size(); ++g)
+      if (names[g] == detector)
+        for (size_t k = 0; k < groups[g].size(); ++k)
+          if (kept[g][k] && groups[g][k].size() >= 0.8 * min_size) faces.push_back({groups[g][k], names[g]});
+  std::stable_sort(faces.begin(), faces.end(), [](const Found& a, const Found& b) {
+    return a.detector != b.detector ? a.detector == "hog" : a.box.score > b.box.score;
+  });
+  return faces;
+}
+
+}  // namespace
+
+std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
+                                               const DetectionOptions& options) {
+  check(photo.width > 0 && photo.height > 0, "face detection: the photo is empty");
+  check(options.padding >= 0 && options.padding <= 2, "face detection: padding ", options.padding,
+        " is outside [0, 2]");
+  prepare(options.detector);
+  const auto whole_start = Clock::now();
+  detection_seconds_ = landmark_seconds_ = 0;
+  const auto start = Clock::now();
+  const double shorter = std::min(photo.width, photo.height);
+  const double default_size = std::max(80.0, shorter / 8.0);
+  const double min_size = options.min_face_size > 0 ? options.min_face_size : default_size;
+  const long pad = std::lround(options.padding * shorter);
+  WorkImage work = padded_work_image(photo, pad, options.detector != DetectorChoice::hog);
+  detection_seconds_ += seconds_since(start);
+
+  // Upright first; while no face of the default size is found, the photo turned by each
+  // fallback angle in turn, its new faces mapped back and added.
+  std::vector<DetectedFace> faces;
+  std::vector<ScoredBox> work_boxes;  // the faces' boxes in the work image's frame
+  auto add = [&](const std::vector<Found>& found, const dlib::array2d<unsigned char>& grey,
+                 const dlib::point_transform_affine& back, double degrees) {
+    const auto landmark_start = Clock::now();
+    for (const Found& f : found) {
+      if (options.max_faces > 0 && static_cast<int>(faces.size()) >= options.max_faces) break;
+      double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300;
+      for (double x : {f.box.left, f.box.right})
+        for (double y : {f.box.top, f.box.bottom}) {
+          const dlib::dpoint q = back(dlib::dpoint(x, y));
+          lx = std::min(lx, q.x());
+          ly = std::min(ly, q.y());
+          hx = std::max(hx, q.x());
+          hy = std::max(hy, q.y());
+        }
+      const ScoredBox mapped{lx, ly, hx, hy, f.box.score};
+      if (std::any_of(work_boxes.begin(), work_boxes.end(),
+                      [&](const ScoredBox& b) { return same_face(b, mapped); }))
+        continue;
+      const dlib::drectangle box = to_hog_convention(f.box, f.detector);
+      Landmarks68 landmarks = to_landmarks(impl_->predictor(
+          grey, dlib::rectangle(std::lround(box.left()), std::lround(box.top()),
+                                std::lround(box.right()) - 1, std::lround(box.bottom()) - 1)));
+      refit_upright(impl_->predictor, grey, box, landmarks);
+      DetectedFace face;
+      for (int i = 0; i < kLandmarkCount; ++i) {
+        const dlib::dpoint q = back(dlib::dpoint(landmarks[i].x, landmarks[i].y));
+        face.landmarks[i] = {q.x() - pad, q.y() - pad};
+      }
+      face.left = lx - pad;
+      face.top = ly - pad;
+      face.right = hx - pad;
+      face.bottom = hy - pad;
+      face.score = f.box.score;
+      face.detector = f.detector;
+      face.rotation_deg = degrees;
+      faces.push_back(face);
+      work_boxes.push_back(mapped);
+    }
+    landmark_seconds_ += seconds_since(landmark_start);
+  };
+
+  // One detector over the upright photo and, while no face of the default size is found, over
+  // the photo turned by each fallback angle.
+  bool found_default = false;
+  auto run = [&](bool use_cnn, bool turns) {
+    found_default = false;
+    add(search_upright(impl_->hog, impl_->hog_band, impl_->cnn.get(), use_cnn, work, options,
+                       min_size, default_size, found_default, detection_seconds_),
+        work.grey, dlib::point_transform_affine(), 0.0);
+    for (double degrees : options.fallback_rotations_deg) {
+      if (found_default || !turns) break;
+      const auto turn_start = Clock::now();
+      WorkImage turned;
+      const double radians = degrees * kPi / 180.0;
+      const dlib::point_transform_affine to_turned =
+          dlib::rotate_image(work.grey, turned.grey, radians, dlib::interpolate_bilinear());
+      if (use_cnn) dlib::rotate_image(work.rgb, turned.rgb, radians, dlib::interpolate_bilinear());
+      detection_seconds_ += seconds_since(turn_start);
+      add(search_upright(impl_->hog, impl_->hog_band, impl_->cnn.get(), use_cnn, turned, options,
+                         min_size, default_size, found_default, detection_seconds_),
+          turned.grey, dlib::inv(to_turned), degrees);
+    }
+  };
+  // automatic: HOG (upright and turned) first; the CNN on the upright photo only when HOG found
+  // no face of the default size in any turn (the CNN also answers some faces lying on their side
+  // with boxes the landmark model cannot use, so HOG's turns go first).
+  if (options.detector != DetectorChoice::cnn) run(false, true);
+  if (options.detector == DetectorChoice::cnn) run(true, true);
+  if (options.detector == DetectorChoice::automatic && !found_default) run(true, false);
+  if (stage_timing_enabled()) {  // grey conversion and turning count as detection
+    add_stage_time("landmarks", landmark_seconds_);
+    add_stage_time("detect", seconds_since(whole_start) - landmark_seconds_);
+  }
+  return faces;
+}
+
+Landmarks68 FaceDetector::landmarks_in_box(const RgbImage& photo, double left, double top,
+                                           double right, double bottom) {
+  dlib::array2d<unsigned char> grey;
+  to_grey(photo, grey);
+  return to_landmarks(impl_->predictor(
+      grey, dlib::rectangle(std::lround(left), std::lround(top), std::lround(right),
+                            std::lround(bottom))));
+}
+
+std::string no_face_reason(const RgbImage& photo, const DetectionOptions& options) {
+  const double shorter = std::min(photo.width, photo.height);
+  std::ostringstream why;
+  if (options.min_face_size > shorter * (1 + 2 * options.padding)) {
+    why << "no face: the photo (" << photo.width << " x " << photo.height
+        << ") is smaller than --min-face-size " << options.min_face_size;
+    return why.str();
+  }
+  const double min_size = options.min_face_size > 0 ? options.min_face_size : std::max(80.0, shorter / 8.0);
+  why << "no face found by "
+      << (options.detector == DetectorChoice::automatic ? "the HOG or the CNN detector"
+          : options.detector == DetectorChoice::hog     ? "the HOG detector (try --detector cnn)"
+                                                        : "the CNN detector")
+      << " among faces of at least " << std::lround(0.8 * min_size)
+      << " pixels (try a smaller --min-face-size)";
+  return why.str();
+}
+
+}  // namespace facetool

@@ -1,0 +1,92 @@
+// FaceDetector: every face in a photo with its detection score and 68 landmarks (dlib's HOG
+// frontal face detector, its MMOD CNN face detector and its 68-point shape predictor; dlib stays
+// inside the .cpp files).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libs/face/cnn_face_detector.h"
+#include "libs/face/point2.h"
+#include "libs/io/image_io.h"
+
+namespace facetool {
+
+// Debian libdlib-data's model; its training data (iBUG 300-W) excludes commercial use.
+extern const char* const kDefaultLandmarkModel;
+
+// Which detector finds the faces: dlib's HOG detector, its CNN (MMOD) detector, or `automatic`:
+// HOG on the upright and turned photo, and the CNN on the upright photo as well when HOG finds
+// no face of the default minimum size (docs/photos.md: the CNN is much slower than HOG on a CPU).
+enum class DetectorChoice { hog, cnn, automatic };
+const char* detector_choice_name(DetectorChoice choice);  // "hog", "cnn", "auto"
+// Parses "hog", "cnn" or "auto"; throws facetool::Error naming the value otherwise.
+DetectorChoice parse_detector_choice(const std::string& name);
+
+struct DetectedFace {
+  double left = 0, top = 0, right = 0, bottom = 0;  // detector box, photo pixels
+  double score = 0;  // the detector's margin (> threshold: a face); HOG and CNN scales differ
+  std::string detector = "hog";                      // which one found it: "hog" or "cnn"
+  Landmarks68 landmarks{};                           // photo pixels
+  double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
+  double size() const { return std::max(right - left, bottom - top); }
+};
+
+struct DetectionOptions {
+  DetectorChoice detector = DetectorChoice::automatic;
+  int max_faces = 0;            // keep the best-scoring this many (0: all)
+  // Photo pixels; 0: automatic, max(80, shorter side / 8). The search runs in size bands that
+  // start at 80 x 2^k, the largest such size not above the minimum (detection_bands.h), and
+  // keeps faces of at least 0.8 times the minimum: a smaller minimum never finds fewer faces.
+  double min_face_size = 0;
+  double score_threshold = 0.25;     // HOG margin below which a box is not a face
+  double cnn_score_threshold = 0.0;  // CNN score below which a box is not a face
+  // The photo is padded on every side by this fraction of its shorter side (with its mean
+  // colour) before detection, so that a face filling the photo or cut by its edge is found.
+  double padding = 0.25;
+  // When the upright photo has no face, the photo turned by these angles (degrees, counter-
+  // clockwise on screen) is searched in turn until one has; the HOG detector finds only
+  // roughly upright faces (about +-20 degrees of roll).
+  std::vector<double> fallback_rotations_deg = {-30, 30, -90, 90, 180};
+};
+
+class FaceDetector {
+ public:
+  // Loads the landmark model (about one second); throws facetool::Error naming the file and
+  // the Debian package when it is missing or unreadable. The CNN model is read when a detection
+  // first needs it (or by prepare()).
+  explicit FaceDetector(const std::string& landmark_model = kDefaultLandmarkModel,
+                        const std::string& cnn_model = kDefaultCnnFaceModel);
+  ~FaceDetector();
+  FaceDetector(const FaceDetector&) = delete;
+  FaceDetector& operator=(const FaceDetector&) = delete;
+
+  // Reads the models that `choice` needs now (the CNN model for cnn and automatic), so that a
+  // missing or damaged file stops a run before its first photo; throws facetool::Error naming it.
+  void prepare(DetectorChoice choice);
+
+  // Faces of `photo` (linear RGB; converted to sRGB for dlib), HOG faces first, each detector's
+  // best score first. The detectors run on the padded photo scaled so that each size band's
+  // face size becomes their 80-pixel window (faster on big photos); landmarks are fitted at
+  // full resolution, in a box of the HOG detector's convention (CNN boxes are mapped to it).
+  std::vector<DetectedFace> detect(const RgbImage& photo, const DetectionOptions& options = {});
+  // Landmarks only, in a given box (HOG convention) (photo pixels): for tests on rendered faces with known boxes.
+  Landmarks68 landmarks_in_box(const RgbImage& photo, double left, double top, double right,
+                               double bottom);
+
+  // Seconds the last detect() spent in detection and in the landmark fit (for benchmarks).
+  double last_detection_seconds() const { return detection_seconds_; }
+  double last_landmark_seconds() const { return landmark_seconds_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  double detection_seconds_ = 0, landmark_seconds_ = 0;
+};
+
+// Why detect() found no face in `photo` (for the message and the summary): the photo is smaller
+// than the minimum face size, or no detector found one, with what to try.
+std::string no_face_reason(const RgbImage& photo, const DetectionOptions& options);
+
+}  // namespace facetool

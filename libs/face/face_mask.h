@@ -1,0 +1,31 @@
+// The face mask: the convex hull of the 68 landmarks (paper section 3.2), optionally extended
+// over the forehead, as a polygon, a signed distance and a raster.
+#pragma once
+
+#include <vector>
+
+#include "libs/face/point2.h"
+
+namespace facetool {
+
+// How far the forehead extension lifts the brow points, as a fraction of the distance from
+// the chin (landmark 8) to the brows' centre (mean of 19 and 24), along that direction.
+constexpr double kForeheadLift = 0.45;
+
+// Convex hull (positive turns in the stored x, y coordinates: clockwise on screen) of
+// the landmarks; with `extend_forehead`, of the landmarks plus the brow points (17-26) lifted
+// by kForeheadLift.
+std::vector<Point2> face_mask_polygon(const Landmarks68& landmarks, bool extend_forehead);
+
+// Distance of p to the polygon's boundary, positive inside, negative outside (convex polygon
+// from face_mask_polygon).
+double signed_distance_inside(const std::vector<Point2>& convex_polygon, Point2 p);
+
+// max(0, signed_distance_inside(polygon, p)): the depth inside, 0 outside (cheaper: no
+// distance to the boundary is computed for points outside).
+double depth_inside(const std::vector<Point2>& convex_polygon, Point2 p);
+
+// size x size raster: 1 where the pixel centre is inside the polygon, else 0.
+std::vector<float> rasterize_mask(const std::vector<Point2>& convex_polygon, int size);
+
+}  // namespace facetool

@@ -1,0 +1,45 @@
+// RGBA PNG writing through OpenImageIO.
+#include "libs/face/rgba_png.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "core/util/atomic_file.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
+                               const std::vector<float>& alpha, bool encode_srgb) {
+  const size_t count = static_cast<size_t>(rgb.width) * rgb.height;
+  check(count > 0 && alpha.size() == count, "cannot write '", path,
+        "': empty image or alpha of the wrong size");
+  std::vector<uint8_t> bytes(count * 4);
+  auto quantise = [](float v) {
+    return static_cast<uint8_t>(std::lround((v == v ? std::clamp(v, 0.0f, 1.0f) : 0.0f) * 255.0f));
+  };
+  for (size_t p = 0; p < count; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      const float v = rgb.pixels[p * 3 + c];
+      bytes[p * 4 + c] = quantise(encode_srgb ? linear_to_srgb(v) : v);
+    }
+    bytes[p * 4 + 3] = quantise(alpha[p]);
+  }
+  write_atomically(path, [&](const std::string& temp_path) {
+    auto output = OIIO::ImageOutput::create("png");
+    check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());
+    OIIO::ImageSpec spec(rgb.width, rgb.height, 4, OIIO::TypeDesc::UINT8);
+    spec.alpha_channel = 3;
+    if (!output->open(temp_path, spec)) fail("cannot create '", temp_path, "': ", output->geterror());
+    if (!output->write_image(OIIO::TypeDesc::UINT8, bytes.data()))
+      fail("cannot write '", temp_path, "': ", output->geterror());
+    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
+  });
+}
+
+}  // namespace facetool

@@ -1,0 +1,78 @@
+// Fitting a real sample's crop landmarks, rendering at the crop's size, solving light and albedo.
+#include "libs/fit/fit_labels.h"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "libs/synth/gbuffer.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
+                                 const PhotoFitOptions& options, const VisibilitySampler& sampler,
+                                 const std::string& label) {
+  const std::string* landmarks_text = sample.find_metadata("facetool:landmarks");
+  check(landmarks_text != nullptr, "sample '", source,
+        "' has no facetool:landmarks: pseudo-label --from fit needs samples written by `facetool prepare-real`");
+  LandmarkTarget target;
+  target.width = sample.width;
+  target.height = sample.height;
+  std::istringstream in(*landmarks_text);
+  for (Point2& p : target.landmarks)
+    check(static_cast<bool>(in >> p.x >> p.y), "sample '", source, "': facetool:landmarks does not hold 136 numbers");
+  const int r = sample.find_channel("R"), g = sample.find_channel("G"), b = sample.find_channel("B");
+  check(r >= 0 && g >= 0 && b >= 0, "sample '", source, "' has no R, G, B channels");
+  const FaceFit fit = fit_landmarks(basis, target, options.fit);
+  FitRenderSettings render = options.render;
+  render.visibility = true;
+  const FitRendering rendering = render_fit(basis.model(), fit, &sampler, render);
+  const size_t plane = sample.plane_size();
+  std::vector<float> image(3 * plane);
+  for (int c = 0; c < 3; ++c) std::copy(sample.plane(c == 0 ? r : c == 1 ? g : b), sample.plane(c == 0 ? r : c == 1 ? g : b) + plane, image.begin() + c * plane);
+  // Light and albedo from the pixels both masks trust: the fitted face region inside the
+  // sample's own mask (the landmark hull), eroded by one pixel (edges mix background).
+  std::vector<uint8_t> trusted(plane, 0);
+  const int mask_channel = sample.find_channel("mask");
+  for (size_t p = 0; p < plane; ++p)
+    trusted[p] = rendering.mask[p] && (mask_channel < 0 || sample.plane(mask_channel)[p] > 0.5f);
+  trusted = erode_mask(trusted, sample.width, sample.height);
+  const ShadingSolve solve = solve_light_and_albedo(image, rendering.normal, rendering.visibility, trusted,
+                                                    sample.width, sample.height);
+  // Albedo where the fit covers the face but the solve had no window: 0 (the mask excludes it).
+  std::map<std::string, const float*> planes;
+  std::vector<std::string> names;
+  auto add = [&](const std::string& name, const float* data) {
+    if (!planes.count(name)) names.push_back(name);
+    planes[name] = data;
+  };
+  for (int c = 0; c < sample.channel_count(); ++c) add(sample.channel_names[c], sample.plane(c));
+  std::vector<float> mask(plane);
+  for (size_t p = 0; p < plane; ++p) mask[p] = rendering.mask[p] ? 1.0f : 0.0f;
+  add("mask", mask.data());
+  const char* albedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
+  const char* normal[3] = {"normal.X", "normal.Y", "normal.Z"};
+  for (int c = 0; c < 3; ++c) {
+    add(albedo[c], solve.albedo.data() + c * plane);
+    add(normal[c], rendering.normal.data() + c * plane);
+  }
+  for (int j = 0; j < 9; ++j) add("visibility." + std::to_string(j), rendering.visibility.data() + j * plane);
+  LayeredImage out(sample.width, sample.height, names);
+  for (size_t k = 0; k < names.size(); ++k)
+    std::copy(planes[names[k]], planes[names[k]] + plane, out.plane(static_cast<int>(k)));
+  out.metadata = sample.metadata;
+  std::string light;
+  char buffer[40];
+  for (int k = 0; k < 27; ++k) {
+    std::snprintf(buffer, sizeof buffer, "%.9g", solve.light[k]);
+    light += (k ? " " : "") + std::string(buffer);
+  }
+  out.set_metadata("facetool:light_sh", light);
+  out.set_metadata("facetool:pseudo_labels", label);
+  std::snprintf(buffer, sizeof buffer, "%.4g", fit.rms_px);
+  out.set_metadata("facetool:fit_landmark_rms_px", buffer);
+  return out;
+}
+
+}  // namespace facetool

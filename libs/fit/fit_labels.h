@@ -1,0 +1,23 @@
+// Pseudo labels from the fit: a real face sample (prepare-real's EXR, with its crop landmarks)
+// labelled with the fitted normals, visibility and mask, and the light and albedo that least
+// squares gives from its pixels (`facetool pseudo-label --from fit`; docs/fit.md).
+#pragma once
+
+#include <string>
+
+#include "libs/fit/fit_shading.h"
+#include "libs/fit/photo_fit.h"
+#include "libs/io/layered_image.h"
+
+namespace facetool {
+
+// `sample` holds R G B (linear), mask and facetool:landmarks (136 crop-pixel numbers). Returns
+// the sample with channels albedo.R/G/B, normal.X/Y/Z, visibility.0..8 added (replaced if
+// present), mask replaced by the fitted face region, facetool:light_sh (27 numbers) and
+// facetool:pseudo_labels = `label`; other channels and attributes kept. Throws facetool::Error
+// naming `source` when the sample lacks landmarks or colour channels.
+LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
+                                 const PhotoFitOptions& options, const VisibilitySampler& sampler,
+                                 const std::string& label);
+
+}  // namespace facetool

@@ -1,0 +1,55 @@
+// The decomposer's batch loop and the concatenation of its results.
+#include "libs/inference/batched_decomposition.h"
+
+#include <algorithm>
+
+#include "core/util/error.h"
+
+namespace facetool {
+
+void decompose_in_batches(Decomposer& decomposer, Backend& backend, size_t count, int batch,
+                          const std::function<void(size_t k, std::vector<float>& inputs)>& load,
+                          const std::function<void(size_t first, const Decomposition& d,
+                                                   const std::vector<float>& inputs)>& use) {
+  check(batch >= 1, "the batch size must be at least 1 (it is ", batch, ")");
+  std::vector<float> inputs;
+  for (size_t first = 0; first < count; first += static_cast<size_t>(batch)) {
+    const size_t n = std::min(count - first, static_cast<size_t>(batch));
+    inputs.clear();
+    for (size_t k = first; k < first + n; ++k) load(k, inputs);
+    const Decomposition d = decomposer.run(backend, inputs, static_cast<int>(n));
+    use(first, d, inputs);
+  }
+}
+
+void append_decomposition(Decomposition& a, const Decomposition& b) {
+  check(a.count == 0 || a.size == b.size, "cannot join decompositions of ", a.size, " and ", b.size, " pixel crops");
+  a.size = b.size;
+  a.count += b.count;
+  auto append = [](std::vector<float>& to, const std::vector<float>& from) {
+    to.insert(to.end(), from.begin(), from.end());
+  };
+  append(a.albedo, b.albedo);
+  append(a.normal, b.normal);
+  append(a.visibility, b.visibility);
+  append(a.light, b.light);
+  append(a.shading, b.shading);
+  append(a.reconstruction, b.reconstruction);
+}
+
+Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
+                            int count, int size, int batch) {
+  const size_t image = 3 * static_cast<size_t>(size) * size;
+  check(count >= 0 && crops.size() == static_cast<size_t>(count) * image, "decompose_all: ", crops.size(),
+        " values are not ", count, " crops of 3x", size, "x", size);
+  Decomposition all;
+  decompose_in_batches(
+      decomposer, backend, static_cast<size_t>(count), batch,
+      [&](size_t k, std::vector<float>& inputs) {
+        inputs.insert(inputs.end(), crops.begin() + k * image, crops.begin() + (k + 1) * image);
+      },
+      [&](size_t, const Decomposition& d, const std::vector<float>&) { append_decomposition(all, d); });
+  return all;
+}
+
+}  // namespace facetool

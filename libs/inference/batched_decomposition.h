@@ -1,0 +1,30 @@
+// The one batch loop of the decomposer: a list of crops run `batch` at a time (infer, relight,
+// pseudo-label, eval, the photo pipeline).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "libs/inference/decomposer.h"
+
+namespace facetool {
+
+// Runs the decomposer over `count` inputs in batches of `batch`. For each batch, load(k, inputs)
+// appends input k's planar linear RGB crop [3][S][S] to `inputs` for k = first .. first + n - 1;
+// then use(first, d, inputs) gets the batch's results (d's image i is input first + i) and the
+// batch's inputs. Throws facetool::Error when batch < 1.
+void decompose_in_batches(Decomposer& decomposer, Backend& backend, size_t count, int batch,
+                          const std::function<void(size_t k, std::vector<float>& inputs)>& load,
+                          const std::function<void(size_t first, const Decomposition& d,
+                                                   const std::vector<float>& inputs)>& use);
+
+// Runs the decomposer over `count` planar crops [count][3][size][size] in batches of `batch`
+// and concatenates the results.
+Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
+                            int count, int size, int batch);
+
+// Appends b's images to a (equal sizes; a may be empty).
+void append_decomposition(Decomposition& a, const Decomposition& b);
+
+}  // namespace facetool

@@ -1,0 +1,120 @@
+// EXR writing and reading through OpenImageIO's ImageOutput/ImageInput.
+#include "libs/io/exr_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cctype>
+#include <filesystem>
+#include <memory>
+
+#include "core/util/atomic_file.h"
+#include "libs/io/image_encoding.h"
+#include "libs/io/image_io.h"
+#include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/image_limits.h"
+#include "core/util/stage_timer.h"
+
+namespace facetool {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+namespace {
+
+// OpenImageIO wants interleaved pixels; LayeredImage is planar.
+std::vector<float> interleave(const LayeredImage& image) {
+  const size_t plane = image.plane_size();
+  const size_t channels = image.channel_names.size();
+  std::vector<float> out(plane * channels);
+  for (size_t c = 0; c < channels; ++c) {
+    const float* source = image.plane(static_cast<int>(c));
+    for (size_t p = 0; p < plane; ++p) out[p * channels + c] = source[p];
+  }
+  return out;
+}
+
+void read_metadata(const OIIO::ImageSpec& spec, const std::string& prefix, LayeredImage& image) {
+  for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+    if (attribute.type() != OIIO::TypeDesc::STRING) continue;
+    const std::string name = attribute.name().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    image.metadata.emplace_back(name, attribute.get_string());
+  }
+}
+
+// "EXR" for .exr files, "image" for the other formats read through the same functions.
+std::string kind_of(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".exr" ? "EXR" : "image";
+}
+
+std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
+  const std::string kind = kind_of(path);
+  check_regular_input_file(path, kMaxImageFileBytes, kind);
+  auto input = OIIO::ImageInput::open(path);
+  if (!input)
+    fail("cannot read ", kind, " '", path, "': ", OIIO::geterror(),
+         " (a damaged or unsupported file: replace or regenerate it)");
+  const OIIO::ImageSpec& spec = input->spec();
+  check_image_dimensions(path, spec.width, spec.height, spec.nchannels, kind);
+  return input;
+}
+
+}  // namespace
+
+std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image) {
+  StageTimer timer("encode");  // the interleaving and OpenEXR's compression
+  check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
+        "cannot write '", path, "': the image is empty");
+  check(image.pixels.size() == image.plane_size() * image.channel_names.size(),
+        "cannot write '", path, "': pixel count does not match the size and channels");
+  const std::vector<float> interleaved = interleave(image);
+  OIIO::ImageSpec spec(image.width, image.height, image.channel_count(), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = image.channel_names;
+  spec.alpha_channel = -1;
+  spec.z_channel = -1;
+  spec.attribute("compression", "zip");
+  // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
+  // empty so the same content always gives the same bytes.
+  spec.attribute("DateTime", "");
+  for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
+  return encode_image(path, "openexr", spec, OIIO::TypeDesc::FLOAT, interleaved.data());
+}
+
+void write_exr_atomically(const std::string& path, const LayeredImage& image) {
+  const std::vector<unsigned char> encoded = encode_exr(path, image);
+  write_file_atomically(path, encoded.data(), encoded.size());
+}
+
+LayeredImage read_exr(const std::string& path, const std::string& metadata_prefix) {
+  auto input = open_exr(path);
+  const OIIO::ImageSpec& spec = input->spec();
+  LayeredImage image(spec.width, spec.height, spec.channelnames);
+  std::vector<float> interleaved(image.plane_size() * spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, interleaved.data()))
+    fail("cannot read the pixels of ", kind_of(path), " '", path, "': ", input->geterror(),
+         " (the file is truncated or damaged: replace or regenerate it)");
+  const size_t channels = static_cast<size_t>(spec.nchannels);
+  for (size_t c = 0; c < channels; ++c) {
+    float* target = image.plane(static_cast<int>(c));
+    for (size_t p = 0; p < image.plane_size(); ++p) target[p] = interleaved[p * channels + c];
+  }
+  read_metadata(spec, metadata_prefix, image);
+  input->close();
+  return image;
+}
+
+LayeredImage read_exr_header(const std::string& path, const std::string& metadata_prefix) {
+  auto input = open_exr(path);
+  const OIIO::ImageSpec& spec = input->spec();
+  LayeredImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channel_names = spec.channelnames;
+  read_metadata(spec, metadata_prefix, image);
+  input->close();
+  return image;
+}
+
+}  // namespace facetool

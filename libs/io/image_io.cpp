@@ -1,0 +1,151 @@
+// RGB image reading and PNG writing through OpenImageIO.
+#include "libs/io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <new>
+
+#include "core/util/atomic_file.h"
+#include "libs/io/image_encoding.h"
+#include "libs/io/jpeg_check.h"
+#include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/image_limits.h"
+#include "core/util/memory_budget.h"
+#include "core/util/stage_timer.h"
+
+namespace facetool {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+float linear_to_srgb(float linear) {
+  const float x = std::clamp(linear, 0.0f, 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float encoded) {
+  const float x = std::clamp(encoded, 0.0f, 1.0f);
+  return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
+}
+
+namespace {
+
+// A compressed image cannot hold more than this many pixels per byte of file (deflate expands at
+// most 1032:1 and a 1-bit PNG packs 8 pixels a byte; a JPEG needs at least one bit per 8x8
+// block): a header claiming more is a damaged or cut-off file, refused before any allocation.
+constexpr uint64_t kMaxPixelsPerCompressedByte = 16384;
+
+}  // namespace
+
+void check_image_header_plausible(const std::string& path, const std::string& format,
+                                  int64_t width, int64_t height, uint64_t file_bytes) {
+  if (format != "png" && format != "jpeg") return;
+  const uint64_t pixels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+  check(pixels <= (file_bytes + 64) * kMaxPixelsPerCompressedByte, "image '", path,
+        "' says it is ", width, "x", height, " pixels but holds only ", file_bytes,
+        " bytes, far too few for that many: the file is truncated or damaged; replace it");
+}
+
+namespace {
+
+// Opens `path` (already checked to be a regular file of `file_bytes` bytes) and checks its header.
+std::unique_ptr<OIIO::ImageInput> open_image_for_reading(const std::string& path,
+                                                         uint64_t file_bytes) {
+  // Alpha is dropped (docs/photos.md), so colours are read as stored: OpenImageIO would
+  // otherwise multiply them by alpha (a half-transparent face comes out darker).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto input = OIIO::ImageInput::open(path, &config);
+  if (!input)
+    fail("cannot read image '", path, "': ", OIIO::geterror(),
+         " (check that the file is a complete image OpenImageIO can read)");
+  const OIIO::ImageSpec& spec = input->spec();
+  check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
+  check_image_header_plausible(path, input->format_name(), spec.width, spec.height, file_bytes);
+  if (std::string(input->format_name()) == "jpeg")
+    check(jpeg_is_complete(path), "image '", path, "' is a truncated JPEG: the file ends before ",
+          "its image does (an interrupted download or copy?); replace it with a complete file");
+  return input;
+}
+
+}  // namespace
+
+RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
+  const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, "image");
+  auto input = open_image_for_reading(path, file_bytes);
+  const OIIO::ImageSpec& spec = input->spec();
+  const int channels = spec.nchannels;
+  const size_t count = static_cast<size_t>(spec.width) * spec.height;
+  const std::string what = "reading image '" + path + "' of " + std::to_string(spec.width) + "x" +
+                           std::to_string(spec.height) + " pixels";
+  // The decoded channels as floats, then RGB floats: both live at once.
+  check_memory_budget((count * channels + count * 3) * sizeof(float), what);
+  std::vector<float> raw;
+  RgbImage image;
+  try {
+    raw.resize(count * channels);
+    image.pixels.resize(count * 3);
+  } catch (const std::bad_alloc&) {
+    throw out_of_memory(what, (count * channels + count * 3) * sizeof(float));
+  }
+  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data()))
+    fail("cannot read the pixels of image '", path, "': ", input->geterror(),
+         " (the file is truncated or damaged: replace it)");
+  input->close();
+  image.width = spec.width;
+  image.height = spec.height;
+  for (size_t p = 0; p < count; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const int source_channel = channels >= 3 ? c : 0;  // grey (+ alpha) replicates channel 0
+      const float value = raw[p * channels + source_channel];
+      check(std::isfinite(value), "image '", path, "' holds a NaN or infinite value at pixel (",
+            p % spec.width, ", ", p / spec.width, ") channel ", source_channel,
+            "; fix or regenerate the file");
+      image.pixels[p * 3 + c] = decode_srgb ? srgb_to_linear(value) : value;
+    }
+  return image;
+}
+
+std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,
+                                      bool encode_srgb) {
+  StageTimer timer("encode");  // the 8-bit (sRGB) conversion and the PNG compression
+  check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
+  std::vector<uint8_t> bytes(rgb.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const float v = encode_srgb ? linear_to_srgb(rgb.pixels[i])
+                                : std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
+    bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
+  }
+  const OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
+  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
+  const std::vector<unsigned char> encoded = encode_png(path, rgb, encode_srgb);
+  write_file_atomically(path, encoded.data(), encoded.size());
+}
+
+RgbImage rgb_from_planar(const float* planar, int width, int height) {
+  RgbImage image;
+  image.width = width;
+  image.height = height;
+  const size_t plane = static_cast<size_t>(width) * height;
+  image.pixels.resize(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = planar[c * plane + p];
+  return image;
+}
+
+std::vector<float> planar_from_rgb(const RgbImage& image) {
+  const size_t plane = static_cast<size_t>(image.width) * image.height;
+  std::vector<float> planar(plane * 3);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) planar[c * plane + p] = image.pixels[p * 3 + c];
+  return planar;
+}
+
+}  // namespace facetool

@@ -1,0 +1,34 @@
+// Network weights on disk: a network plugin's parameters and buffers as one safetensors file.
+#pragma once
+
+#include <string>
+
+#include "libs/model/safetensors.h"
+#include "core/plugin/network_plugin.h"
+
+namespace facetool {
+
+// Metadata written with the weights (docs/model-format.md):
+//   format = "facetool-network", format_version = "1", architecture = plugin name,
+//   width, input_size, input = "linear_rgb" (linear RGB in [0, 1]; 8-bit sRGB files decoded).
+constexpr const char* kWeightsFormat = "facetool-network";
+constexpr int kWeightsFormatVersion = 1;
+
+struct WeightsHeader {
+  std::string architecture;
+  NetworkConfig config;
+};
+
+// Reads and checks the metadata of a weights file; fails naming the file and the bad field.
+WeightsHeader read_weights_header(const SafeTensors& file, const std::string& path);
+
+// Copies every parameter and buffer of `net` (already built with the file's configuration)
+// from `file`. Fails, naming the tensor, when one is missing, has another shape or dtype, or when
+// the file holds tensors the network does not have.
+void load_network_weights(NetworkPlugin& net, const SafeTensors& file, const std::string& path);
+
+// Writes the network's parameters, buffers and configuration to `path` atomically.
+void save_network_weights(const NetworkPlugin& net, const std::string& architecture,
+                          const std::string& path);
+
+}  // namespace facetool

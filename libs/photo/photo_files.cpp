@@ -1,0 +1,199 @@
+// The files of `facetool infer` on photos: per face, per photo, and the loop over photos.
+#include "libs/photo/photo_files.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "libs/face/detection_summary.h"
+#include "libs/face/landmark_drawing.h"
+#include "libs/face/photo_reader.h"
+#include "libs/face/rgba_png.h"
+#include "libs/fit/photo_fit.h"
+#include "libs/io/exr_io.h"
+#include "libs/io/layered_image.h"
+#include "libs/photo/decomposition_files.h"
+#include "core/util/atomic_file.h"
+#include "core/util/error.h"
+#include "core/util/math_constants.h"
+#include "core/util/memory_budget.h"
+#include "core/util/progress_bar.h"
+
+namespace fs = std::filesystem;
+
+namespace facetool {
+namespace {
+
+// One photo-level PNG: the premultiplied layer over the input, or un-premultiplied with alpha.
+void write_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
+                     const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
+  const size_t plane = alpha.size();
+  if (transparent) {
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] = alpha[p] > 0 ? layer.pixels[p * 3 + c] / alpha[p] : 0.0f;
+    write_rgba_png_atomically(path, layer, alpha, encode_srgb);
+    return;
+  }
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float in = encode_srgb ? input.pixels[p * 3 + c] : linear_to_srgb(input.pixels[p * 3 + c]);
+      layer.pixels[p * 3 + c] += (1 - alpha[p]) * in;
+    }
+  write_png_atomically(path, layer, encode_srgb);
+}
+
+std::string faces_json(const std::string& source, const std::vector<FaceCrop>& crops,
+                       const std::vector<sh::RgbLight>& photo_lights) {
+  std::ostringstream o;
+  o << std::setprecision(9) << "{\n  \"source\": \"" << source << "\",\n  \"faces\": [";
+  for (size_t k = 0; k < crops.size(); ++k) {
+    const FaceCrop& c = crops[k];
+    const Similarity2& t = c.alignment.photo_to_crop;
+    o << (k ? "," : "") << "\n    {\"folder\": \"face_" << k << "\", \"score\": " << c.face.score
+      << ", \"box\": [" << c.face.left << ", " << c.face.top << ", " << c.face.right << ", "
+      << c.face.bottom << "], \"found_turned_deg\": " << c.face.rotation_deg
+      << ",\n     \"photo_to_crop\": [[" << t.a << ", " << -t.b << ", " << t.tx << "], [" << t.b
+      << ", " << t.a << ", " << t.ty << "]], \"crop_size\": " << c.alignment.crop_size
+      << ",\n     \"landmarks\": [";
+    for (int i = 0; i < kLandmarkCount; ++i)
+      o << (i ? ", " : "") << "[" << c.face.landmarks[i].x << ", " << c.face.landmarks[i].y << "]";
+    o << "],\n     \"light_photo_frame\": [";
+    for (int i = 0; i < sh::kLightCoeffCount; ++i) o << (i ? ", " : "") << photo_lights[k][i];
+    o << "]}";
+  }
+  o << "\n  ]\n}\n";
+  return o.str();
+}
+
+}  // namespace
+
+void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options) {
+  const Decomposition& d = photo.decomposition;
+  const PhotoLayers& layers = photo.layers;
+  const int w = photo.photo.width, h = photo.photo.height, n = d.count;
+  const size_t plane = static_cast<size_t>(w) * h;
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  check(!ec, "cannot create output folder '", folder, "': ", ec.message());
+  std::vector<float> inputs;
+  for (const FaceCrop& c : photo.crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+  std::vector<RgbImage> sheet_rows;
+  for (int k = 0; k < n; ++k) {
+    write_decomposition((fs::path(folder) / ("face_" + std::to_string(k))).string(), d, k, inputs, photo.path);
+    if (options.contact_sheet) sheet_rows.push_back(contact_sheet_row(d, k, inputs));
+  }
+
+  auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
+  const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights);
+  write_file_atomically(at("faces.json"), json.data(), json.size());
+  write_layer_png(at("albedo.png"), rgb_from_planar(layers.albedo.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
+  write_layer_png(at("shading.png"), rgb_from_planar(layers.shading.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
+  write_layer_png(at("reconstruction.png"), rgb_from_planar(layers.reconstruction.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
+  RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h), visibility_png = normal_png;
+  const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) {
+      normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + layers.alpha[p]);  // premultiplied (n + 1) / 2
+      visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
+    }
+  write_layer_png(at("normal.png"), normal_png, photo.photo, layers.alpha, options.transparent, false);
+  write_layer_png(at("visibility.png"), visibility_png, photo.photo, layers.alpha, options.transparent, false);
+
+  std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
+                                    "normal.X", "normal.Y", "normal.Z"};
+  for (int i = 0; i < 9; ++i) names.push_back("visibility." + std::to_string(i));
+  for (const char* layer : {"shading", "reconstruction"})
+    for (const char* c : {"R", "G", "B"}) names.push_back(std::string(layer) + "." + c);
+  LayeredImage exr(w, h, names);
+  for (size_t p = 0; p < plane; ++p)
+    for (int c = 0; c < 3; ++c) exr.plane(c)[p] = photo.photo.pixels[p * 3 + c];
+  std::copy(layers.alpha.begin(), layers.alpha.end(), exr.plane(3));
+  std::copy(layers.albedo.begin(), layers.albedo.end(), exr.plane(4));
+  std::copy(layers.normal.begin(), layers.normal.end(), exr.plane(7));
+  std::copy(layers.visibility.begin(), layers.visibility.end(), exr.plane(10));
+  std::copy(layers.shading.begin(), layers.shading.end(), exr.plane(19));
+  std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
+  exr.set_metadata("facetool:source", photo.path);
+  exr.set_metadata("facetool:faces", std::to_string(n));
+  write_exr_atomically(at("photo.exr"), exr);
+
+  if (options.contact_sheet) {
+    const int width = sheet_rows[0].width;
+    RgbImage annotated = resize_to_width(photo.photo, width);
+    for (const FaceCrop& c : photo.crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
+    sheet_rows.insert(sheet_rows.begin(), annotated);
+    write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
+  }
+  // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
+  // replaced by this run's, which has fewer faces (faces.json lists them).
+  for (int k = n;; ++k) {
+    const fs::path stale = fs::path(folder) / ("face_" + std::to_string(k));
+    if (!fs::is_directory(stale, ec)) break;
+    fs::remove_all(stale, ec);
+  }
+  if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
+    std::vector<DetectedFace> faces;
+    for (const FaceCrop& c : photo.crops) faces.push_back(c.face);
+    const std::vector<DetectedFace> ordered = order_faces_by_size(faces);
+    options.with_fit->write(at("fit"), photo.photo, ordered, options.with_fit->fit(photo.photo, ordered), photo.path);
+  }
+}
+
+int infer_photos(const std::vector<std::string>& photos, const std::vector<std::string>& folders,
+                 const std::string& out_dir, PhotoDecomposer& decomposer, const PhotoInferOptions& options) {
+  check(photos.size() == folders.size(), "infer: ", photos.size(), " photos for ", folders.size(), " folder names");
+  int failed = 0;
+  DetectionSummary summary;
+  ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
+  for (size_t k = 0; k < photos.size(); ++k) {
+    const std::string& path = photos[k];
+    // A photo that cannot be read, has no face or is too large for the memory left is reported
+    // and skipped; a failure to write its results (a full disk) ends the run.
+    DecomposedPhoto photo;
+    try {
+      RgbImage image;
+      try {
+        image = read_photo(path);
+      } catch (const OutOfMemory&) {
+        summary.add(path, 0, "out of memory");
+        throw;
+      } catch (const Error& e) {
+        summary.add(path, 0, "unreadable");
+        fail("photo '", path, "': ", e.what());
+      }
+      try {
+        photo = decomposer.decompose(std::move(image), path);
+      } catch (const NoFaceError& e) {
+        summary.add(path, 0, e.reason());
+        throw;
+      }
+      summary.add(path, static_cast<int>(photo.crops.size()));
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nphoto '" << path << "': " << out_of_memory("processing photo '" + path + "'", 0).what() << "\n";
+      ++failed;
+      progress.advance();
+      continue;
+    } catch (const Error& e) {
+      std::cerr << "\n" << e.what() << "\n";
+      ++failed;
+      progress.advance();
+      continue;
+    }
+    try {
+      write_photo_files((fs::path(out_dir) / folders[k]).string(), photo, options);
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nphoto '" << path << "': "
+                << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
+      ++failed;
+    }
+    progress.advance();
+  }
+  progress.finish();
+  summary.print(std::cerr);
+  return failed;
+}
+
+}  // namespace facetool

@@ -1,0 +1,24 @@
+// The files `facetool infer` writes per photo from a DecomposedPhoto, and its loop over photos.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "libs/photo/photo_pipeline.h"
+
+namespace facetool {
+
+// Writes into `folder` (created if needed): one face_<k>/ folder per face (decomposition_files.h),
+// faces.json (boxes, scores, landmarks, transforms, lights in the photo's frame), albedo,
+// shading, reconstruction, normal and visibility PNGs at the photo's resolution (over the
+// photo, or transparent outside the faces with options.transparent), photo.exr (every channel,
+// alpha = face coverage) and, with options.contact_sheet, contact_sheet.png.
+void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options);
+
+
+// Runs every photo `photos[k]` into <out_dir>/<folders[k]>/; a photo that cannot be read or has
+// no face gets a line on stderr and the run goes on. Returns the number of such photos.
+int infer_photos(const std::vector<std::string>& photos, const std::vector<std::string>& folders,
+                 const std::string& out_dir, PhotoDecomposer& decomposer, const PhotoInferOptions& options);
+
+}  // namespace facetool

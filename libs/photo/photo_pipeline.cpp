@@ -1,0 +1,167 @@
+// The photo pipeline in memory: detect, align, decompose every face, paste the layers back.
+#include "libs/photo/photo_pipeline.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+
+#include "libs/face/frame_rotation.h"
+#include "libs/face/photo_reader.h"
+#include "core/util/error.h"
+#include "core/util/file_checks.h"
+#include "core/util/memory_budget.h"
+#include "core/util/terminal_text.h"
+
+namespace fs = std::filesystem;
+
+namespace facetool {
+namespace {
+
+bool is_photo_file(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".exr", ".hdr", ".pgm", ".ppm"})
+    if (ext == e) return true;
+  return false;
+}
+
+}  // namespace
+
+std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size) {
+  const size_t size = static_cast<size_t>(channels) * crop_size * crop_size;
+  check((static_cast<size_t>(k) + 1) * size <= all.size(), "face ", k, " is not in the decomposition");
+  return std::vector<float>(all.begin() + k * size, all.begin() + (k + 1) * size);
+}
+
+PhotoDecomposer::PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer, Backend& backend,
+                                 int crop_size, const PhotoInferOptions& options)
+    : detector_(detector), decomposer_(decomposer), backend_(backend), crop_size_(crop_size), options_(options) {
+  check(crop_size >= 8, "photo decomposer: the crop size must be at least 8 pixels (it is ", crop_size, ")");
+  check(options.batch >= 1, "photo decomposer: the batch size must be at least 1 (it is ", options.batch, ")");
+  check(options.feather >= 0, "photo decomposer: the feather must be 0 or more (it is ", options.feather, ")");
+}
+
+std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options) {
+  auto detector = std::make_unique<FaceDetector>(options.landmark_model, options.cnn_model);
+  detector->prepare(options.detection.detector);
+  return detector;
+}
+
+std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
+                                      const PhotoInferOptions& options) {
+  std::vector<FaceCrop> crops;
+  for (const DetectedFace& f : detector.detect(photo, options.detection))
+    crops.push_back(crop_face(photo, f, crop_size, options.extend_forehead));
+  return crops;
+}
+
+std::vector<FaceCrop> PhotoDecomposer::find_faces(const RgbImage& photo) {
+  return find_face_crops(detector_, photo, crop_size_, options_);
+}
+
+DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& source) {
+  check(photo.width > 0 && photo.height > 0 &&
+            photo.pixels.size() == static_cast<size_t>(photo.width) * photo.height * 3,
+        source.empty() ? std::string("the photo") : "photo '" + source + "'", " is not a ", photo.width, "x",
+        photo.height, " RGB image (", photo.pixels.size(), " values)");
+  std::vector<FaceCrop> crops = find_faces(photo);
+  if (crops.empty()) {
+    std::string reason = no_face_reason(photo, options_.detection);
+    throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason,
+                      std::move(reason));
+  }
+  // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
+  check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
+                      "pasting the faces back into " + (source.empty() ? std::string("the photo") : "photo '" + source + "'") +
+                          " of " + std::to_string(photo.width) + "x" + std::to_string(photo.height) + " pixels");
+  std::vector<float> inputs;
+  for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+  const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
+                                        crop_size_, options_.batch);
+  return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather);
+}
+
+DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
+  RgbImage photo;
+  try {
+    photo = read_photo(path);
+  } catch (const Error& e) {
+    fail("photo '", path, "': ", e.what());
+  }
+  return decompose(std::move(photo), path);
+}
+
+DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
+                                          const Decomposition& decomposition, double feather) {
+  DecomposedPhoto out;
+  out.path = path;
+  out.photo = std::move(photo);
+  out.crops = std::move(crops);
+  out.decomposition = decomposition;
+  const int n = decomposition.count, crop_size = decomposition.size;
+  check(n == static_cast<int>(out.crops.size()), "photo pipeline: ", n, " decomposed faces for ",
+        out.crops.size(), " crops");
+  out.crop_size = crop_size;
+  const int w = out.photo.width, h = out.photo.height;
+  const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(crop_size) * crop_size;
+  PhotoLayers& layers = out.layers;
+  layers.width = w;
+  layers.height = h;
+  layers.alpha.assign(plane, 0.0f);
+  layers.albedo.assign(plane * 3, 0.0f);
+  layers.normal.assign(plane * 3, 0.0f);
+  layers.visibility.assign(plane * 9, 0.0f);
+  layers.shading.assign(plane * 3, 0.0f);
+  layers.reconstruction.assign(plane * 3, 0.0f);
+  out.old_shading.assign(plane * 3, 1.0f);
+  const std::vector<float> ones(crop_plane, 1.0f);
+  const Decomposition& d = out.decomposition;
+  for (int k = 0; k < n; ++k) {
+    const FaceCrop& c = out.crops[k];
+    const Similarity2& t = c.alignment.photo_to_crop;
+    out.regions.push_back(paste_region(w, h, t, crop_size, c.mask_polygon, feather));
+    const PasteRegion& region = out.regions.back();
+    std::vector<float> normal = face_planes(d.normal, k, 3, crop_size);
+    std::vector<float> visibility = face_planes(d.visibility, k, 9, crop_size);
+    rotate_normals_to_photo(normal.data(), crop_plane, t);
+    rotate_visibility_to_photo(visibility.data(), crop_plane, t);
+    const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
+    paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
+    paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
+    paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
+    paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
+    paste_channels(region, shading.data(), 3, layers.shading.data(), w, h);
+    paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(), w, h);
+    paste_channels(region, shading.data(), 3, out.old_shading.data(), w, h);
+    sh::RgbLight light;
+    for (int i = 0; i < sh::kLightCoeffCount; ++i)
+      light[i] = d.light[static_cast<size_t>(k) * sh::kLightCoeffCount + i];
+    out.photo_lights.push_back(rotate_light_to_photo(light, t));
+  }
+  return out;
+}
+
+std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs) {
+  std::vector<std::string> photos;
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    if (fs::is_directory(input, ec)) {
+      // Links that lead nowhere (dangling, loops) and pipes are named and skipped, not fatal.
+      std::vector<std::string> problems;
+      const std::vector<std::string> found = list_folder_files(
+          input, "photo folder", [](const std::string& name) { return is_photo_file(name); },
+          problems);
+      for (const std::string& problem : problems)
+        std::cerr << "skipping " << printable_text(problem) << "\n";
+      check(!found.empty(), "folder '", input, "' holds no photos (png, jpg, jpeg, tif, tiff, bmp, webp, exr, hdr, pgm, ppm)");
+      photos.insert(photos.end(), found.begin(), found.end());
+    } else {
+      check_regular_input_file(input, kMaxImageFileBytes, "input photo");
+      photos.push_back(input);
+    }
+  }
+  return photos;
+}
+
+}  // namespace facetool

@@ -1,0 +1,126 @@
+// Whole photos: detection, alignment, the network on each face's crop, and everything pasted back
+// at the photo's resolution (docs/photos.md). PhotoDecomposer works on photos in memory; the
+// files `infer` writes from its results are photo_files.h's.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/backend/backend.h"
+#include "libs/face/face_crops.h"
+#include "libs/face/face_detector.h"
+#include "libs/face/paste_back.h"
+#include "libs/inference/batched_decomposition.h"
+#include "libs/inference/decomposer.h"
+#include "core/sh/sh_types.h"
+#include "core/util/error.h"
+
+namespace facetool {
+
+class PhotoFitter;
+
+struct PhotoInferOptions {
+  DetectionOptions detection;
+  std::string landmark_model = kDefaultLandmarkModel;
+  std::string cnn_model = kDefaultCnnFaceModel;  // --cnn-model
+  bool extend_forehead = false;  // --forehead
+  double feather = 3.0;          // --feather, crop pixels
+  bool transparent = false;      // --transparent: PNGs transparent outside the faces
+  bool contact_sheet = true;
+  int batch = 8;
+  const PhotoFitter* with_fit = nullptr;  // --with-fit: the landmark fit too, in <photo folder>/fit/
+};
+
+// PHOTO|DIR arguments as photo files: a folder gives its image files (by extension, sorted, not
+// recursive). Throws facetool::Error for a path that is neither.
+std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs);
+
+// Detection and alignment: each face of `photo` (linear RGB) cropped to crop_size, best detection
+// score first (empty: no face). PhotoDecomposer's first step; prepare-real's whole job.
+std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
+                                      const PhotoInferOptions& options);
+
+// Photo-resolution planar layers, premultiplied by the faces' coverage `alpha` (0 where no face
+// is). Normals and visibility are turned into the photo's frame (+X right, +Y up, +Z towards
+// the viewer; libs/face/frame_rotation.h).
+struct PhotoLayers {
+  int width = 0, height = 0;
+  std::vector<float> alpha;           // [w*h] face coverage in [0, 1]
+  std::vector<float> albedo;          // [3][w*h]
+  std::vector<float> normal;          // [3][w*h]
+  std::vector<float> visibility;      // [9][w*h] SH coefficients
+  std::vector<float> shading;         // [3][w*h]
+  std::vector<float> reconstruction;  // [3][w*h]
+};
+
+// A photo taken apart once: its faces' crops (best detection score first), the network's
+// crop-level results (crop frame), where each face pastes back, each face's light turned into
+// the photo's frame, and the layers pasted back at the photo's resolution.
+// Thrown by PhotoDecomposer::decompose when the photo holds no face; reason() says why where
+// that is known (face_detector.h's no_face_reason).
+class NoFaceError : public Error {
+ public:
+  NoFaceError(const std::string& message, std::string reason) : Error(message), reason_(std::move(reason)) {}
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
+};
+
+// The face detector the options ask for (--landmark-model, --cnn-model, --detector), its models
+// loaded now so that a missing or damaged one is reported before any photo is read.
+std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options);
+
+struct DecomposedPhoto {
+  std::string path;  // the source named in messages and files ("" for a photo given in memory)
+  RgbImage photo;    // linear RGB
+  int crop_size = 0;
+  std::vector<FaceCrop> crops;
+  Decomposition decomposition;             // one image per crop
+  std::vector<PasteRegion> regions;        // per face
+  std::vector<sh::RgbLight> photo_lights;  // per face, photo frame (docs/photos.md)
+  PhotoLayers layers;
+  std::vector<float> old_shading;  // [3][w*h] estimated shading, 1 outside the faces (relighting)
+};
+
+// The photo pipeline on photos in memory: detect, align, decompose every face in batches, paste
+// back. The detector, decomposer and backend must outlive it.
+class PhotoDecomposer {
+ public:
+  // `crop_size`: the network's input size.
+  PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer, Backend& backend, int crop_size,
+                  const PhotoInferOptions& options);
+
+  // Detection and alignment only: each face's crop, best detection score first (empty: none).
+  std::vector<FaceCrop> find_faces(const RgbImage& photo);
+
+  // `photo` in linear RGB. Throws facetool::Error naming `source` (or "the photo") when it holds
+  // no face.
+  DecomposedPhoto decompose(RgbImage photo, const std::string& source = "");
+
+  // read_photo(path) (8-bit files decoded from sRGB), then decompose(); throws facetool::Error
+  // naming the file when it cannot be read or holds no face.
+  DecomposedPhoto decompose_file(const std::string& path);
+
+  const PhotoInferOptions& options() const { return options_; }
+  int crop_size() const { return crop_size_; }
+
+ private:
+  FaceDetector& detector_;
+  Decomposer& decomposer_;
+  Backend& backend_;
+  int crop_size_;
+  PhotoInferOptions options_;
+};
+
+// The part of decompose() after the network: paste regions, the photo-frame layers, the
+// estimated shading at the photo's resolution and each face's light turned into the photo's
+// frame. `decomposition` holds one face per crop (the tests give synthetic ones).
+DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
+                                          const Decomposition& decomposition, double feather);
+
+// Face k's crop-level planes of `d`: `channels` planes of S*S from the array `all` ([N][C][S][S]).
+std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size);
+
+}  // namespace facetool
