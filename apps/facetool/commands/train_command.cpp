@@ -46,7 +46,8 @@ std::vector<std::pair<double, double>> trim_log(const std::string& path, int64_t
         j["step"].get<double>() > static_cast<double>(last_step))
       continue;
     kept += line + "\n";
-    if (j.contains("total") && j["total"].is_number()) points.emplace_back(j["step"].get<double>(), j["total"].get<double>());
+    if (j.contains("total") && j["total"].is_number())
+      points.emplace_back(j["step"].get<double>(), j["total"].get<double>());
   }
   write_file_atomically(path, kept.data(), kept.size());
   return points;
@@ -78,9 +79,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "train --config FILE.json --out RUN [options]",
           "Trains the network for one stage of the paper (or any configuration), with the loss "
           "terms of the loaded loss plugins. Writes a checkpoint every checkpoint_every steps, on "
-          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np K the "
-          "ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes the "
-          "run folder.",
+          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np "
+          "K the ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes "
+          "the run folder.",
           options, {}, args, values))
     return 0;
   check_option_ranges(values, {{"steps", 1, 1e9}, {"time-limit", 0.01, 1e6}});
@@ -139,9 +140,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     // A finished or diverged run without a checkpoint still holds results worth keeping.
     // (An empty log is a run that failed before its first step: nothing to keep.)
     for (const std::string& earlier : {weights, log_path})
-      check(!fs::exists(earlier) || fs::file_size(earlier) == 0 || values.count("overwrite"), "--out '", out,
-            "' holds another run's results ('", earlier, "') but no checkpoint to resume; ",
-            "choose another --out, or pass --overwrite to replace them");
+      check(!fs::exists(earlier) || fs::file_size(earlier) == 0 || values.count("overwrite"),
+            "--out '", out, "' holds another run's results ('", earlier, "') but no checkpoint ",
+            "to resume; choose another --out, or pass --overwrite to replace them");
     if (!from.empty()) {
       const SafeTensors file = SafeTensors::read_file(from);
       if (file.metadata().count("format") && file.metadata().at("format") == "facetool-checkpoint") {
