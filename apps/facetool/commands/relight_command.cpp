@@ -148,18 +148,18 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   std::optional<sh::RgbLight> file_light;
   if (!values.count("light-from")) file_light = light_from_file_options(values);
 
-  {
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
-  }
-  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;
   FaceDetector detector(photo_options.landmark_model);
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
+  }
+  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
 
   std::optional<DecomposedPhoto> source;
   sh::RgbLight light{};
