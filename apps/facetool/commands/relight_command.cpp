@@ -154,12 +154,6 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;
   FaceDetector detector(photo_options.landmark_model);
-  {
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
-  }
-  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
 
   std::optional<DecomposedPhoto> source;
   sh::RgbLight light{};
@@ -174,6 +168,13 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   if (rotation) light = sh::rotate_light(light, *rotation);
   light = relight::scale_light(light, intensity);
 
+  // One run per output folder, from the first write on (a run refused on its light writes none).
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
+  }
+  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
   const std::vector<std::string> stems = unique_output_names(photos);
   int failed = 0;
   ProgressBar progress("relight", static_cast<int64_t>(photos.size()), "photos");
