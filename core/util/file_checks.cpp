@@ -64,7 +64,8 @@ void check_input_folder(const std::string& path, const std::string& what) {
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) {
     const int error = errno;
-    if (error == ENOENT) fail(what, " '", path, "' does not exist (no such folder); check the path");
+    if (error == ENOENT)
+      fail(what, " '", path, "' does not exist (no such folder); check the path");
     if (error == ENOTDIR)
       fail(what, " '", path, "' does not exist: a part of the path is a file, not a folder");
     if (error == ELOOP)
@@ -109,7 +110,8 @@ std::vector<std::string> list_folder_files(const std::string& folder, const std:
     }
     if (S_ISDIR(info.st_mode)) continue;  // a subfolder is not one of the files
     if (!S_ISREG(info.st_mode)) {
-      problems.push_back("'" + entry.string() + "' is not a regular file (a device, pipe or socket)");
+      problems.push_back("'" + entry.string() +
+                         "' is not a regular file (a device, pipe or socket)");
       continue;
     }
     files.push_back(entry.string());

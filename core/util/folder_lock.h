@@ -1,4 +1,4 @@
-// One run per output folder: an advisory lock (flock) on the folder itself, held while a run writes.
+// One run per output folder: an advisory lock (flock) on the folder itself while a run writes.
 #pragma once
 
 #include <string>

@@ -12,7 +12,8 @@ std::string first_duplicate_json_key(const std::string& text) {
   std::string duplicate;
   const nlohmann::json::parser_callback_t track_keys =
       [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-        if (event == nlohmann::json::parse_event_t::object_start) keys_of_open_objects.emplace_back();
+        if (event == nlohmann::json::parse_event_t::object_start)
+          keys_of_open_objects.emplace_back();
         if (event == nlohmann::json::parse_event_t::object_end && !keys_of_open_objects.empty())
           keys_of_open_objects.pop_back();
         if (event == nlohmann::json::parse_event_t::key && !keys_of_open_objects.empty() &&

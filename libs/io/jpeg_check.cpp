@@ -15,7 +15,8 @@ class ByteReader {
   int next() {
     if (position_ == filled_) {
       if (!in_) return -1;
-      in_.read(reinterpret_cast<char*>(buffer_.data()), static_cast<std::streamsize>(buffer_.size()));
+      in_.read(reinterpret_cast<char*>(buffer_.data()),
+               static_cast<std::streamsize>(buffer_.size()));
       filled_ = static_cast<size_t>(in_.gcount());
       position_ = 0;
       if (filled_ == 0) return -1;

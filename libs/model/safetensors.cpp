@@ -55,7 +55,8 @@ SafeTensors SafeTensors::read_file(const std::string& path) {
       in.read(reinterpret_cast<char*>(prefix.data()) + 8, static_cast<std::streamsize>(header_len));
     }
   }
-  if (!in) fail("cannot read weights file '", path, "': it changed or could not be read completely");
+  if (!in)
+    fail("cannot read weights file '", path, "': it changed or could not be read completely");
   SafeTensors st = parse_header(prefix.data(), size, path);
   const uint64_t data_size = size - prefix.size();
   const std::string what = "reading weights file '" + path + "'";
@@ -78,7 +79,8 @@ SafeTensors SafeTensors::parse(const uint8_t* bytes, size_t size, const std::str
   return st;
 }
 
-SafeTensors SafeTensors::parse_header(const uint8_t* bytes, uint64_t size, const std::string& what) {
+SafeTensors SafeTensors::parse_header(const uint8_t* bytes, uint64_t size,
+                                      const std::string& what) {
   auto bad = [&](const auto&... parts) { fail("'", what, "' is not a valid safetensors file: ", parts...); };
   if (size < 8) bad("it holds ", size, " bytes, fewer than the 8-byte header length");
   const uint64_t header_len = read_u64_le(bytes);

@@ -213,8 +213,7 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
             j["shard"].get<std::string>(), " but another folder is of a run split ", shard_count,
             " ways; merge the shards of one run");
       shard_count = count;
-      check(shards_seen.insert(index).second, "eval --merge: shard ", index, "/", count,
-            " is given twice ('", dir, "'); merge each shard once");
+      shards_seen.insert(index);  // a shard given twice is refused below by its repeated rows
     } else {
       ++unlabelled_shards;
     }
@@ -225,11 +224,13 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
     check(results[i].file != results[i - 1].file, "eval --merge: '", results[i].file,
           "' is in two shards; merge each shard's output once");
   check(!results.empty(), "eval --merge: the shards hold no images");
-  if (shard_count > 0 && unlabelled_shards == 0 && static_cast<int>(shards_seen.size()) != shard_count) {
+  if (shard_count > 0 && unlabelled_shards == 0 &&
+      static_cast<int>(shards_seen.size()) != shard_count) {
     std::string missing;
     for (int i = 0; i < shard_count; ++i)
       if (!shards_seen.count(i))
-        missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(shard_count);
+        missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" +
+                   std::to_string(shard_count);
     fail("eval --merge: the run was split ", shard_count, " ways but shard(s) ", missing,
          " are not given; merge all of them (the figures of a part are not the run's)");
   }
@@ -388,7 +389,9 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
 
   const std::string md_text =
       write_outputs(out_dir, model, data, results, summarize_angles(angles),
-                    shard_count > 1 ? std::to_string(shard_index) + "/" + std::to_string(shard_count) : "");
+                    shard_count > 1
+                        ? std::to_string(shard_index) + "/" + std::to_string(shard_count)
+                        : "");
   if (want_sheet) write_png_atomically((fs::path(out_dir) / "contact_sheet.png").string(), sheet);
   std::cout << md_text;
   return 0;

@@ -126,6 +126,13 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   photo_options.batch = batch;
   photo_options.contact_sheet = !values.count("no-contact-sheet");
 
+  Backend& backend = get_backend(context.backend);
+  const LoadedNetwork loaded = load_network(context, values, backend);
+  NetworkPlugin* network = loaded.network.get();
+  const std::string& architecture = loaded.architecture;
+  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
+                                                 values["renderer"].as<std::string>());
+  Decomposer decomposer(*network, *renderer);
   // One run per output folder (the shards of one sharded run write disjoint names and share it).
   {
     std::error_code ec;
@@ -134,13 +141,6 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   }
   const FolderLock lock(out_dir, "-o",
                         shard_count > 1 ? FolderLock::Mode::kShared : FolderLock::Mode::kExclusive);
-  Backend& backend = get_backend(context.backend);
-  const LoadedNetwork loaded = load_network(context, values, backend);
-  NetworkPlugin* network = loaded.network.get();
-  const std::string& architecture = loaded.architecture;
-  auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
-                                                 values["renderer"].as<std::string>());
-  Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
   std::unique_ptr<PhotoFitter> fitter;
   if (values.count("with-fit")) {

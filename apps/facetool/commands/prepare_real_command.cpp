@@ -52,10 +52,11 @@ std::vector<Photo> list_photos(const std::vector<std::string>& inputs, const std
           continue;
         }
         std::string ext = e.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-        const bool photo_name = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" ||
-                                ext == ".tiff" || ext == ".bmp" || ext == ".webp" || ext == ".exr" ||
-                                ext == ".hdr";
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
+        const bool photo_name = ext == ".png" || ext == ".jpg" || ext == ".jpeg" ||
+                                ext == ".tif" || ext == ".tiff" || ext == ".bmp" ||
+                                ext == ".webp" || ext == ".exr" || ext == ".hdr";
         std::error_code status_error;
         const fs::file_status target = e.status(status_error);  // follows a link
         if (fs::is_directory(target) || !photo_name ||
@@ -66,7 +67,8 @@ std::vector<Photo> list_photos(const std::vector<std::string>& inputs, const std
               target.type() == fs::file_type::not_found ? "a symbolic link to nothing"
               : status_error ? status_error.message()
                              : std::string("not a regular file (a pipe, device or socket)");
-          problems.emplace_back(fs::relative(e.path(), input).generic_string(), "unreadable: " + why);
+          problems.emplace_back(fs::relative(e.path(), input).generic_string(),
+                                "unreadable: " + why);
           continue;
         }
         found.push_back({e.path().string(), fs::relative(e.path(), input).generic_string()});
@@ -144,7 +146,8 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   // A rerun keeps the samples already there only when they were made with these settings.
   const std::string manifest_path = (fs::path(out) / "manifest.tsv").string();
   if (fs::exists(manifest_path)) {
-    const std::string earlier = read_regular_input_file(manifest_path, kMaxTextFileBytes, "manifest");
+    const std::string earlier =
+        read_regular_input_file(manifest_path, kMaxTextFileBytes, "manifest");
     const std::string first_line = earlier.substr(0, earlier.find('\n'));
     check(first_line == settings, "-o '", out, "' holds samples made with other settings ('",
           first_line, "', now '", settings, "'); use a new output folder");

@@ -148,12 +148,6 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   std::optional<sh::RgbLight> file_light;
   if (!values.count("light-from")) file_light = light_from_file_options(values);
 
-  {
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
-  }
-  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
@@ -175,6 +169,13 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   if (rotation) light = sh::rotate_light(light, *rotation);
   light = relight::scale_light(light, intensity);
 
+  // One run per output folder, from the first write on (a run refused on its light writes none).
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir.string(), "': ", ec.message());
+  }
+  const FolderLock lock(out_dir.string(), "-o");  // one run per output folder
   const std::vector<std::string> stems = unique_output_names(photos);
   int failed = 0;
   ProgressBar progress("relight", static_cast<int64_t>(photos.size()), "photos");

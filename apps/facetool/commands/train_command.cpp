@@ -49,9 +49,9 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
           "train --config FILE.json --out RUN [options]",
           "Trains the network for one stage of the paper (or any configuration), with the loss "
           "terms of the loaded loss plugins. Writes a checkpoint every checkpoint_every steps, on "
-          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np K the "
-          "ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes the "
-          "run folder.",
+          "Ctrl-C / SIGTERM / SIGHUP and at the end; --resume continues from it. Under mpirun -np "
+          "K the ranks split every batch\n(data-parallel; docs/distributed.md) and rank 0 writes "
+          "the run folder.",
           options, {}, args, values))
     return 0;
   check_option_ranges(values, {{"steps", 1, 1e9}, {"time-limit", 0.01, 1e6}});
