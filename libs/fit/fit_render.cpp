@@ -4,21 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <time.h>
 
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/ray_scene.h"
 #include "core/util/error.h"
+#include "core/util/thread_cpu_time.h"
 
 namespace facetool {
 
 namespace {
-// CPU time of the calling thread (timings that other processes on the machine do not skew).
-double thread_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 double since(double start) { return thread_cpu_seconds() - start; }
 }  // namespace
 

@@ -6,11 +6,11 @@
 #include <ceres/rotation.h>
 
 #include <algorithm>
-#include <time.h>
 #include <cmath>
 #include <memory>
 
 #include "core/util/error.h"
+#include "core/util/thread_cpu_time.h"
 
 namespace facetool {
 
@@ -18,12 +18,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// CPU time of the calling thread: fit timings that other processes on the machine do not skew.
-double thread_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 
 // Camera intrinsics and the residual normalisation of one target.
 struct Intrinsics {

@@ -1,7 +1,6 @@
 // One sample from a seed: the generator's pipeline in order.
 #include "libs/synth/sample_generator.h"
 
-#include <time.h>
 #include <xmmintrin.h>
 
 #include <algorithm>
@@ -11,16 +10,11 @@
 #include "libs/synth/generator_settings.h"
 #include "libs/synth/ray_scene.h"
 #include "core/util/error.h"
+#include "core/util/thread_cpu_time.h"
 
 namespace facetool {
 namespace {
 
-// CPU time of the calling thread: phase timings that other processes on the machine do not skew.
-double thread_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 
 // Flush-to-zero and denormals-are-zero while generating (Embree traverses much faster with them;
 // every thread sets the same mode, so results do not depend on the thread). Restored after.

@@ -9,7 +9,7 @@ void add_fit_options(po::options_description& options) {
   const FitSettings d;
   options.add_options()
       ("camera", po::value<std::string>()->default_value("perspective")->value_name("perspective|orthographic"),
-       "camera model of the fit: scaled orthographic, or a pinhole with the field of view --fov")
+       "camera model of the fit: a pinhole with the field of view --fov, or scaled orthographic (docs/fit.md: measured choice)")
       ("fov", po::value<double>()->default_value(d.fov_deg), "--camera perspective: horizontal field of view over the photo's width, degrees")
       ("jaw", po::value<std::string>()->default_value("down-weighted")->value_name("down-weighted|contour"),
        "jaw-line landmarks: re-chosen silhouette vertices (contour), or fixed vertices with a lower weight")
