@@ -44,7 +44,6 @@ def render(normal, disc, albedo, lights, rng, scale=300.0):
     """8-bit photos of a Lambertian scene with attached shadows, a cast shadow (a band that
     the lights from the viewer's right cannot reach), specular outliers, sensor noise,
     quantisation and clipping at 255. Returns (raw, cast-shadow mask per light)."""
-    k = len(lights)
     shading = np.maximum(0.0, np.einsum("hwc,kc->khw", normal, lights))
     image = scale * albedo[None] * shading
     h, w = disc.shape
