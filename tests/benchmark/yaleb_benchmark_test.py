@@ -12,6 +12,7 @@ except ImportError:
     print("SKIP: no numpy for python3 (Debian: python3-numpy)")
     sys.exit(77)
 
+sys.dont_write_bytecode = True   # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 import yaleb_benchmark as yb  # noqa: E402
 
