@@ -476,18 +476,14 @@ def command_infer(args):
     pred = os.path.join(args.cache, "pred")
     for name, extra in (("infer", []), ("infer-aligned", ["--aligned"])):
         out = os.path.join(pred, name)
-        if os.path.isdir(out):
-            shutil.rmtree(out)
-        os.makedirs(out)
+        make_clean(out)
         print(f"facetool infer {' '.join(extra)} on {len(photos)} photos -> {out}", flush=True)
         run_facetool([facetool, "infer", *extra, *[p for _, _, p in photos], "-o", out],
                      os.path.join(pred, name + ".log"))
     run_padded(args, photos, [facetool, "infer"], "photo.exr", os.path.join(pred, "infer-padded"))
     # Landmarks per subject for the template's alignment: the photos lit near the camera axis.
     out = os.path.join(args.cache, "landmarks")
-    if os.path.isdir(out):
-        shutil.rmtree(out)
-    os.makedirs(out)
+    make_clean(out)
     paths = [p for s in subjects(args.data) for p in landmark_photos(args.data, s)]
     print(f"facetool infer on {len(paths)} near-frontally lit photos for landmarks -> {out}", flush=True)
     run_facetool([facetool, "infer", "--no-contact-sheet", *paths, "-o", out],
@@ -495,6 +491,7 @@ def command_infer(args):
 
 
 def make_clean(*folders):
+    """Empties (or creates) each folder."""
     for d in folders:
         if os.path.isdir(d):
             shutil.rmtree(d)

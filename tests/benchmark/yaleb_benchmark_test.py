@@ -12,6 +12,7 @@ except ImportError:
     print("SKIP: no numpy for python3 (Debian: python3-numpy)")
     sys.exit(77)
 
+sys.dont_write_bytecode = True   # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 import yaleb_benchmark as yb  # noqa: E402
 
@@ -44,7 +45,6 @@ def render(normal, disc, albedo, lights, rng, scale=300.0):
     """8-bit photos of a Lambertian scene with attached shadows, a cast shadow (a band that
     the lights from the viewer's right cannot reach), specular outliers, sensor noise,
     quantisation and clipping at 255. Returns (raw, cast-shadow mask per light)."""
-    k = len(lights)
     shading = np.maximum(0.0, np.einsum("hwc,kc->khw", normal, lights))
     image = scale * albedo[None] * shading
     h, w = disc.shape
