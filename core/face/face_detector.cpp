@@ -56,6 +56,7 @@ FaceDetector::FaceDetector(const std::string& landmark_model) : impl_(std::make_
   check(std::filesystem::is_regular_file(landmark_model), "landmark model '", landmark_model,
         "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
         "--landmark-model FILE");
+  StageTimer timer("load models");
   try {
     dlib::deserialize(landmark_model) >> impl_->predictor;
   } catch (const std::exception& e) {
