@@ -85,6 +85,7 @@ FaceDetector::FaceDetector(const std::string& landmark_model, const std::string&
         "' not found: install Debian's libdlib-data (scripts/install-dependencies.sh) or pass "
         "--landmark-model FILE");
   check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
+  StageTimer timer("load models");
   try {
     dlib::deserialize(landmark_model) >> impl_->predictor;
   } catch (const std::exception& e) {
