@@ -344,9 +344,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
   const double shorter = std::min(photo.width, photo.height);
   const double default_size = std::max(80.0, shorter / 8.0);
   const double min_size = options.min_face_size > 0 ? options.min_face_size : default_size;
-  // A face at the edge needs about half its size of padding; faces fill small photos, while in big
-  // ones the default minimum size bounds the padding (and its cost).
-  const long pad = std::lround(options.padding * std::min(shorter, 2 * default_size));
+  const long pad = std::lround(options.padding * shorter);
   WorkImage work = padded_work_image(photo, pad);
   detection_seconds_ += seconds_since(start);
 

@@ -42,9 +42,10 @@ struct DetectionOptions {
   double min_face_size = 0;
   double score_threshold = 0.25;     // HOG margin below which a box is not a face
   double cnn_score_threshold = 0.0;  // CNN score below which a box is not a face
-  // The photo is padded on every side by this fraction of min(shorter side, twice the default
-  // minimum face size), with its mean colour, before detection, so that a face filling the
-  // photo or cut by its edge is found.
+  // The photo is padded on every side by this fraction of its shorter side, with its mean
+  // colour, before detection, so that a face filling the photo or cut by its edge is found.
+  // (Bounding it by the default face size to save time on big photos broke the alignment of a
+  // photo turned by 30 degrees: tests/face/photo_test.cpp.)
   double padding = 0.25;
   // The landmark model was trained on HOG boxes: CNN boxes are mapped to that convention first
   // (false: the CNN's own box, for measurements; docs/photos.md, "Landmark boxes").
