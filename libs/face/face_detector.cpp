@@ -154,15 +154,42 @@ void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<u
 struct BoxMapping {
   double dx = 0, dy = 0, scale = 1;
 };
-const BoxMapping kCnnToHog{0.0, 0.0, 1.0};
+const BoxMapping kCnnToHog{0.057, 0.093, 0.941};
 
-dlib::drectangle to_hog_convention(const ScoredBox& b, const std::string& detector) {
-  if (detector != "cnn") return dlib::drectangle(b.left, b.top, b.right, b.bottom);
-  const double size = std::max(b.right - b.left, b.bottom - b.top);
-  const double cx = (b.left + b.right) / 2 + kCnnToHog.dx * size;
-  const double cy = (b.top + b.bottom) / 2 + kCnnToHog.dy * size;
-  const double half = kCnnToHog.scale * size / 2;
+// The same relation between the bounding box of the 68 landmarks that the model gives in a HOG
+// box and that box.
+const BoxMapping kLandmarksToHog{0.0238, -0.0584, 0.994};
+
+dlib::drectangle mapped_box(double left, double top, double right, double bottom, const BoxMapping& m) {
+  const double size = std::max(right - left, bottom - top);
+  const double cx = (left + right) / 2 + m.dx * size, cy = (top + bottom) / 2 + m.dy * size;
+  const double half = m.scale * size / 2;
   return dlib::drectangle(cx - half, cy - half, cx + half, cy + half);
+}
+
+dlib::drectangle to_hog_convention(const ScoredBox& b, const std::string& detector, bool map_cnn) {
+  if (detector != "cnn" || !map_cnn) return dlib::drectangle(b.left, b.top, b.right, b.bottom);
+  return mapped_box(b.left, b.top, b.right, b.bottom, kCnnToHog);
+}
+
+dlib::drectangle box_from_landmarks(const Landmarks68& l) {
+  double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300;
+  for (const Point2& p : l) {
+    lx = std::min(lx, p.x);
+    ly = std::min(ly, p.y);
+    hx = std::max(hx, p.x);
+    hy = std::max(hy, p.y);
+  }
+  return mapped_box(lx, ly, hx, hy, kLandmarksToHog);
+}
+
+Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
+                          const dlib::drectangle& box) {
+  Landmarks68 landmarks = to_landmarks(predictor(
+      grey, dlib::rectangle(std::lround(box.left()), std::lround(box.top()),
+                            std::lround(box.right()) - 1, std::lround(box.bottom()) - 1)));
+  refit_upright(predictor, grey, box, landmarks);
+  return landmarks;
 }
 
 // The photo as dlib sees it, padded on every side by `pad` pixels of its mean colour.
@@ -171,7 +198,7 @@ struct WorkImage {
   dlib::array2d<dlib::rgb_pixel> rgb;  // sRGB: the CNN (only when it runs)
 };
 
-WorkImage padded_work_image(const RgbImage& photo, long pad, bool with_rgb) {
+WorkImage padded_work_image(const RgbImage& photo, long pad) {
   dlib::array2d<unsigned char> grey;
   to_grey(photo, grey);
   WorkImage work;
@@ -181,25 +208,30 @@ WorkImage padded_work_image(const RgbImage& photo, long pad, bool with_rgb) {
   dlib::assign_all_pixels(work.grey, static_cast<unsigned char>(std::lround(mean_grey)));
   for (long y = 0; y < h; ++y)
     for (long x = 0; x < w; ++x) work.grey[y + pad][x + pad] = grey[y][x];
-  if (with_rgb) {
-    double mean[3] = {0, 0, 0};
-    std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
-    for (size_t i = 0; i < srgb.size(); ++i) {
-      srgb[i] = static_cast<unsigned char>(std::lround(linear_to_srgb(std::clamp(photo.pixels[i], 0.0f, 1.0f)) * 255.0f));
-      mean[i % 3] += srgb[i];
-    }
-    const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),
-                               static_cast<unsigned char>(std::lround(mean[1] / (w * h))),
-                               static_cast<unsigned char>(std::lround(mean[2] / (w * h))));
-    work.rgb.set_size(h + 2 * pad, w + 2 * pad);
-    dlib::assign_all_pixels(work.rgb, fill);
-    for (long y = 0; y < h; ++y)
-      for (long x = 0; x < w; ++x) {
-        const unsigned char* p = &srgb[(static_cast<size_t>(y) * w + x) * 3];
-        work.rgb[y + pad][x + pad] = dlib::rgb_pixel(p[0], p[1], p[2]);
-      }
-  }
   return work;
+}
+
+// The colour copy the CNN needs, made only when it runs (the sRGB encoding of a big photo costs
+// more than HOG on it).
+void add_colour(WorkImage& work, const RgbImage& photo, long pad) {
+  if (work.rgb.size() > 0) return;
+  const long w = photo.width, h = photo.height;
+  double mean[3] = {0, 0, 0};
+  std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
+  for (size_t i = 0; i < srgb.size(); ++i) {
+    srgb[i] = static_cast<unsigned char>(std::lround(linear_to_srgb(std::clamp(photo.pixels[i], 0.0f, 1.0f)) * 255.0f));
+    mean[i % 3] += srgb[i];
+  }
+  const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),
+                             static_cast<unsigned char>(std::lround(mean[1] / (w * h))),
+                             static_cast<unsigned char>(std::lround(mean[2] / (w * h))));
+  work.rgb.set_size(h + 2 * pad, w + 2 * pad);
+  dlib::assign_all_pixels(work.rgb, fill);
+  for (long y = 0; y < h; ++y)
+    for (long x = 0; x < w; ++x) {
+      const unsigned char* p = &srgb[(static_cast<size_t>(y) * w + x) * 3];
+      work.rgb[y + pad][x + pad] = dlib::rgb_pixel(p[0], p[1], p[2]);
+    }
 }
 
 struct Found {
@@ -319,7 +351,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
   const double default_size = std::max(80.0, shorter / 8.0);
   const double min_size = options.min_face_size > 0 ? options.min_face_size : default_size;
   const long pad = std::lround(options.padding * shorter);
-  WorkImage work = padded_work_image(photo, pad, options.detector != DetectorChoice::hog);
+  WorkImage work = padded_work_image(photo, pad);
   detection_seconds_ += seconds_since(start);
 
   // Upright first; while no face of the default size is found, the photo turned by each
@@ -344,11 +376,10 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
       if (std::any_of(work_boxes.begin(), work_boxes.end(),
                       [&](const ScoredBox& b) { return same_face(b, mapped); }))
         continue;
-      const dlib::drectangle box = to_hog_convention(f.box, f.detector);
-      Landmarks68 landmarks = to_landmarks(impl_->predictor(
-          grey, dlib::rectangle(std::lround(box.left()), std::lround(box.top()),
-                                std::lround(box.right()) - 1, std::lround(box.bottom()) - 1)));
-      refit_upright(impl_->predictor, grey, box, landmarks);
+      Landmarks68 landmarks = fit_landmarks(impl_->predictor, grey,
+                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes));
+      if (options.refit_landmarks)
+        landmarks = fit_landmarks(impl_->predictor, grey, box_from_landmarks(landmarks));
       DetectedFace face;
       for (int i = 0; i < kLandmarkCount; ++i) {
         const dlib::dpoint q = back(dlib::dpoint(landmarks[i].x, landmarks[i].y));
@@ -372,6 +403,11 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
   bool found_default = false;
   auto run = [&](bool use_cnn, bool turns) {
     found_default = false;
+    if (use_cnn) {
+      const auto colour_start = Clock::now();
+      add_colour(work, photo, pad);
+      detection_seconds_ += seconds_since(colour_start);
+    }
     add(search_upright(impl_->hog, impl_->hog_band, impl_->cnn.get(), use_cnn, work, options,
                        min_size, default_size, found_default, detection_seconds_),
         work.grey, dlib::point_transform_affine(), 0.0);

@@ -42,9 +42,16 @@ struct DetectionOptions {
   double min_face_size = 0;
   double score_threshold = 0.25;     // HOG margin below which a box is not a face
   double cnn_score_threshold = 0.0;  // CNN score below which a box is not a face
-  // The photo is padded on every side by this fraction of its shorter side (with its mean
-  // colour) before detection, so that a face filling the photo or cut by its edge is found.
+  // The photo is padded on every side by this fraction of its shorter side, with its mean
+  // colour, before detection, so that a face filling the photo or cut by its edge is found.
+  // (Bounding it by the default face size to save time on big photos broke the alignment of a
+  // photo turned by 30 degrees: tests/face/photo_test.cpp.)
   double padding = 0.25;
+  // The landmark model was trained on HOG boxes: CNN boxes are mapped to that convention first
+  // (false: the CNN's own box, for measurements; docs/photos.md, "Landmark boxes").
+  bool map_cnn_boxes = true;
+  // Fit the landmarks a second time in the HOG-convention box derived from the first fit.
+  bool refit_landmarks = false;
   // When the upright photo has no face, the photo turned by these angles (degrees, counter-
   // clockwise on screen) is searched in turn until one has; the HOG detector finds only
   // roughly upright faces (about +-20 degrees of roll).

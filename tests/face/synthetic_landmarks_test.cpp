@@ -28,6 +28,13 @@ struct Errors {
   bool detected = false;
 };
 
+// How a run renders and detects: eyes closed (ICT eyeBlink_L/R at 1), the background made nearly
+// black, and the detection options.
+struct Variant {
+  bool closed_eyes = false, dark_background = false;
+  DetectionOptions options;
+};
+
 class SyntheticLandmarks : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -49,8 +56,9 @@ class SyntheticLandmarks : public ::testing::Test {
     if (!model_) GTEST_SKIP() << "needs ../shared (ICT face model, HDRIs) and dlib's landmark model";
   }
 
-  static SynthSettings settings(double max_yaw) {
+  static SynthSettings settings(double max_yaw, bool closed_eyes = false) {
     SynthSettings s;
+    if (closed_eyes) s.shape.fixed_expressions = {{"eyeBlink_L", 1.0}, {"eyeBlink_R", 1.0}};
     s.camera.width = s.camera.height = 256;
     s.direction_count = 48;  // visibility only shades the image; few directions suffice here
     s.pose.max_roll_deg = 10;
@@ -60,7 +68,7 @@ class SyntheticLandmarks : public ::testing::Test {
   }
 
   // Renders sample `index`, projects its landmark vertices, runs the detector.
-  static Errors measure(const SampleGenerator& generator, uint64_t seed, int64_t index) {
+  static Errors measure(const SampleGenerator& generator, uint64_t seed, int64_t index, const Variant& variant) {
     const SynthSample s = generator.generate(seed, index);
     Random shape_random(derive_seed(s.sample_seed, kShapeStream));
     FaceMesh mesh = model_->build(model_->sample(shape_random, generator.settings().shape));
@@ -81,8 +89,14 @@ class SyntheticLandmarks : public ::testing::Test {
             << "the test's copy of the shape and pose no longer matches the generator's";
       }
     }
-    const RgbImage image = rgb_from_planar(s.image.data(), s.width, s.height);
-    DetectionOptions options;
+    RgbImage image;
+    image.width = s.width;
+    image.height = s.height;
+    image.pixels.resize(s.plane() * 3);
+    for (size_t p = 0; p < s.plane(); ++p)
+      for (int c = 0; c < 3; ++c)
+        image.pixels[p * 3 + c] = variant.dark_background && s.depth[p] == 0 ? 0.002f : s.image[c * s.plane() + p];
+    DetectionOptions options = variant.options;
     options.min_face_size = 60;
     const std::vector<DetectedFace> faces = detector_->detect(image, options);
     Errors e;
@@ -99,10 +113,11 @@ class SyntheticLandmarks : public ::testing::Test {
   }
 
   // Mean errors over `count` samples whose |yaw| is in [low, high] (chosen from the pose stream).
-  static void run(double low, double high, int count, Errors& mean, int& detected) {
+  static void run(double low, double high, int count, Errors& mean, int& detected,
+                  const Variant& variant = Variant()) {
     const uint64_t seed = 11;
     const SampleGenerator generator({model_, nullptr}, lights_, BackgroundSource(),
-                                    make_reference_renderer(), settings(high));
+                                    make_reference_renderer(), settings(high, variant.closed_eyes));
     detected = 0;
     int tried = 0;
     for (int64_t index = 0; tried < count && index < 2000; ++index) {
@@ -110,7 +125,7 @@ class SyntheticLandmarks : public ::testing::Test {
       const HeadPose pose = sample_pose(pose_random, generator.settings().pose);
       if (std::abs(pose.yaw_deg) < low || std::abs(pose.yaw_deg) > high) continue;
       ++tried;
-      const Errors e = measure(generator, seed, index);
+      const Errors e = measure(generator, seed, index, variant);
       if (!e.detected) continue;
       ++detected;
       mean.inner += e.inner;
@@ -150,6 +165,69 @@ TEST_F(SyntheticLandmarks, ThirtyDegreesYaw) {
   ASSERT_GE(detected, 4);
   EXPECT_LT(mean.inner, 0.08);  // measured 6.0 % inner, 16.1 % jaw, 5 of 8 detected
   EXPECT_LT(mean.jaw, 0.25);
+}
+
+TEST_F(SyntheticLandmarks, ClosedEyesOnADarkBackgroundAreFound) {
+  // The case dlib's HOG detector alone missed most of: closed eyes, black background, turned.
+  Variant variant;
+  variant.closed_eyes = variant.dark_background = true;
+  Errors mean;
+  int detected = 0;
+  run(0, 45, 8, mean, detected, variant);
+  std::printf("closed eyes, dark background, |yaw| <= 45: %d of 8 detected; inner points %.2f %% IOD\n",
+              detected, 100 * mean.inner);
+  EXPECT_GE(detected, 7);
+  // Measured 8 of 8, inner 15.1 % IOD (11.7 % with 40 pixels of padding instead of 64: the
+  // points move with the box); up to 45 degrees of yaw with the eyelids closed the predictor
+  // places the points poorly. A stated bound with some room.
+  EXPECT_LT(mean.inner, 0.20);
+}
+
+// The figures of docs/photos.md ("Landmark boxes", closed eyes): per detector and box mapping,
+// detection rate and landmark error over yaw ranges. A measurement, not a check: run with
+// --gtest_also_run_disabled_tests (about 15 minutes on 2 busy cores).
+TEST_F(SyntheticLandmarks, DISABLED_MeasureDetectorsAndBoxConventions) {
+  struct Named {
+    const char* name;
+    Variant variant;
+  };
+  std::vector<Named> variants(5);
+  variants[0].name = "hog";
+  variants[0].variant.options.detector = DetectorChoice::hog;
+  variants[1].name = "cnn, its own box";
+  variants[1].variant.options.detector = DetectorChoice::cnn;
+  variants[1].variant.options.map_cnn_boxes = false;
+  variants[2].name = "cnn, box mapped to HOG's";
+  variants[2].variant.options.detector = DetectorChoice::cnn;
+  variants[3].name = "cnn, mapped, refit from landmarks";
+  variants[3].variant.options.detector = DetectorChoice::cnn;
+  variants[3].variant.options.refit_landmarks = true;
+  variants[4].name = "hog, refit from landmarks";
+  variants[4].variant.options.detector = DetectorChoice::hog;
+  variants[4].variant.options.refit_landmarks = true;
+  const int count = 8;
+  for (const Named& v : variants)
+    for (const auto& [low, high] : std::vector<std::pair<double, double>>{{0, 15}, {15, 30}}) {
+      Errors mean;
+      int detected = 0;
+      run(low, high, count, mean, detected, v.variant);
+      std::printf("%-34s |yaw| %2.0f-%2.0f: %2d of %d, inner %.2f %% IOD, jaw %.2f %% IOD\n", v.name, low,
+                  high, detected, count, 100 * mean.inner, 100 * mean.jaw);
+      std::fflush(stdout);
+    }
+  for (DetectorChoice choice : {DetectorChoice::hog, DetectorChoice::cnn, DetectorChoice::automatic}) {
+    Variant closed;
+    closed.closed_eyes = closed.dark_background = true;
+    closed.options.detector = choice;
+    for (const auto& [low, high] : std::vector<std::pair<double, double>>{{0, 25}, {25, 45}}) {
+      Errors mean;
+      int detected = 0;
+      run(low, high, 12, mean, detected, closed);
+      std::printf("closed eyes, dark, %-4s |yaw| %2.0f-%2.0f: %2d of 12, inner %.2f %% IOD\n",
+                  detector_choice_name(choice), low, high, detected, 100 * mean.inner);
+      std::fflush(stdout);
+    }
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "core/sh/light_clamp.h"
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/sample_generator.h"
+#include "core/util/error.h"
 #include "synth_test_support.h"
 #include "core/util/math_constants.h"
 
@@ -178,6 +179,33 @@ TEST_F(FaceSamples, VisibilityIsZeroOutsideTheDilatedMaskAndUnchangedInsideIt) {
     // (one ray of 300 directions moves a coefficient by at most 4 pi / 300 * 0.55 = 0.023).
     EXPECT_LT(worst, 0.05);
     EXPECT_LE(differing, inside / 100) << "worst " << worst;
+  }
+}
+
+TEST_F(FaceSamples, FixedExpressionsOverrideTheRandomOnesAndUnknownNamesAreErrors) {
+  // Same random stream with and without fixed expressions: the identity and every other
+  // expression weight are the same; the fixed ones hold exactly their weight.
+  ShapeSampling random_only, closed = random_only;
+  closed.fixed_expressions = {{"eyeBlink_L", 1.0}, {"eyeBlink_R", 0.5}};
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    Random a(seed), b(seed);
+    const ShapeWeights plain = model->sample(a, random_only), fixed = model->sample(b, closed);
+    EXPECT_EQ(plain.identity, fixed.identity);
+    const std::vector<std::string>& names = model->expression_names();
+    for (size_t k = 0; k < names.size(); ++k) {
+      if (names[k] == "eyeBlink_L") EXPECT_EQ(fixed.expression[k], 1.0f);
+      else if (names[k] == "eyeBlink_R") EXPECT_EQ(fixed.expression[k], 0.5f);
+      else EXPECT_EQ(fixed.expression[k], plain.expression[k]) << names[k];
+    }
+  }
+  ShapeSampling unknown;
+  unknown.fixed_expressions = {{"noSuchShape", 1.0}};
+  Random r(1);
+  try {
+    model->sample(r, unknown);
+    ADD_FAILURE() << "an unknown expression name was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("noSuchShape"), std::string::npos) << e.what();
   }
 }
 

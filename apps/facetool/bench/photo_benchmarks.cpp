@@ -24,10 +24,11 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repeats, std::ostream& out) {
+void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repeats, std::ostream& out,
+               const DetectionOptions& options = {}) {
   std::vector<double> detect, landmarks, align, paste;
   for (int r = 0; r < repeats; ++r) {
-    const std::vector<DetectedFace> faces = detector.detect(photo);
+    const std::vector<DetectedFace> faces = detector.detect(photo, options);
     check(faces.size() == 1, "bench photo: expected one face, found ", faces.size());
     detect.push_back(detector.last_detection_seconds());
     landmarks.push_back(detector.last_landmark_seconds());
@@ -49,8 +50,8 @@ void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repe
   }
   char line[200];
   const double total = median(detect) + median(landmarks) + median(align) + median(paste);
-  std::snprintf(line, sizeof line, "%5d x %-5d %6.1f MP | detect %8.1f ms | landmarks %6.1f ms | align %6.1f ms | paste-back %6.1f ms | total %8.1f ms\n",
-                photo.width, photo.height, photo.width * photo.height / 1e6, median(detect) * 1e3,
+  std::snprintf(line, sizeof line, "%-4s %5d x %-5d %6.1f MP | detect %8.1f ms | landmarks %6.1f ms | align %6.1f ms | paste-back %6.1f ms | total %8.1f ms\n",
+                detector_choice_name(options.detector), photo.width, photo.height, photo.width * photo.height / 1e6, median(detect) * 1e3,
                 median(landmarks) * 1e3, median(align) * 1e3, median(paste) * 1e3, total * 1e3);
   out << line;
 }
@@ -61,10 +62,16 @@ void run_photo_benchmarks(const std::string& photo_path, int crop_size, int repe
   FaceDetector detector;
   const RgbImage photo = read_photo(photo_path);
   out << "photo pipeline on cpu (" << photo_path << ", crop " << crop_size << ", median of "
-      << repeats << "; the 12 MP photo is the same one enlarged)\n";
+      << repeats << "; the 12 MP photo is the same one enlarged; detector auto, then hog and cnn alone)\n";
   bench_one(detector, photo, crop_size, repeats, out);
   const int width = static_cast<int>(std::lround(std::sqrt(12e6 * photo.width / photo.height)));
   bench_one(detector, resize_to_width(photo, width), crop_size, repeats, out);
+  // Each detector alone on the photo (auto above: HOG, as it finds the face).
+  for (DetectorChoice choice : {DetectorChoice::hog, DetectorChoice::cnn}) {
+    DetectionOptions options;
+    options.detector = choice;
+    bench_one(detector, photo, crop_size, repeats, out, options);
+  }
 }
 
 }  // namespace facetool

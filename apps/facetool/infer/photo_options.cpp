@@ -15,7 +15,7 @@ void add_photo_detection_options(po::options_description& options) {
       ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8)); a smaller value never finds fewer faces")
       ("min-score", po::value<double>()->default_value(0.25), "HOG detection score (margin) below which a box is not a face")
       ("min-cnn-score", po::value<double>()->default_value(0.0), "CNN detection score below which a box is not a face")
-      ("pad", po::value<double>()->default_value(0.25), "pad the photo on every side by this fraction of its shorter side (its mean colour) before detection, so faces filling the photo are found")
+      ("pad", po::value<double>()->default_value(0.25), "before detection, pad the photo on every side by this fraction of its shorter side, in its mean colour, so faces filling the photo or cut by its edge are found")
       ("landmark-model", po::value<std::string>()->default_value(kDefaultLandmarkModel),
        "dlib 68-point shape predictor (Debian libdlib-data; trained on iBUG 300-W: research use only, no commercial use)")
       ("forehead", "extend the landmarks' convex hull over the forehead (docs/photos.md)");
