@@ -67,9 +67,8 @@ DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& so
         photo.height, " RGB image (", photo.pixels.size(), " values)");
   std::vector<FaceCrop> crops = find_faces(photo);
   if (crops.empty()) {
-    std::string reason = no_face_reason(photo, options_.detection);
-    throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason,
-                      std::move(reason));
+    const std::string reason = no_face_reason(photo, options_.detection);
+    throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason, reason);
   }
   // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
   check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
