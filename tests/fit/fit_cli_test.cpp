@@ -100,6 +100,25 @@ TEST_F(FitCliTest, FitsEveryExampleAndReportsThePhotoWithout) {
   EXPECT_NE(log.find("per face: fit "), std::string::npos) << log;
 }
 
+// Three inputs whose stems collide (a/x, b/x, c/x_2): three folders, none overwritten, whatever
+// the order (the names come from unique_output_names over the whole list).
+TEST_F(FitCliTest, InputsSharingANameGetDistinctFolders) {
+  for (const char* sub : {"a", "b", "c"}) fs::create_directories(dir_ / sub);
+  const fs::path photo = dir_ / "photos" / "astronaut.png";
+  fs::copy_file(photo, dir_ / "a" / "x.png");
+  fs::copy_file(photo, dir_ / "b" / "x.png");
+  fs::copy_file(photo, dir_ / "c" / "x_2.png");
+  ASSERT_EQ(run(fit_args() + "--no-visibility --no-contact-sheet " + at("a/x.png") + " " + at("b/x.png") + " " +
+                    at("c/x_2.png") + " -o " + at("names"),
+                at("log")),
+            0)
+      << read_text(at("log"));
+  int folders = 0;
+  for (const auto& entry : fs::directory_iterator(dir_ / "names"))
+    if (entry.is_directory() && fs::exists(entry.path() / "fit.json")) ++folders;
+  EXPECT_EQ(folders, 3) << read_text(at("log"));
+}
+
 TEST_F(FitCliTest, ACorruptPhotoIsReportedAndTheOthersFitted) {
   std::ofstream(at("photos/broken.png")) << "not a png";
   const int status = run(fit_args() + "--no-visibility " + at("photos/broken.png") + " " + at("photos/astronaut.png") +

@@ -15,6 +15,8 @@
 #include "libs/fit/photo_fit.h"
 #include "core/util/shard.h"
 #include "core/util/error.h"
+#include "core/util/folder_lock.h"
+#include "core/util/output_names.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -95,13 +97,8 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
   std::vector<std::string> files = expand_photo_inputs(values["images"].as<std::vector<std::string>>());
   // Output names come from the whole list, so shards write what one run writes.
   std::vector<PhotoJob> jobs;
-  std::map<std::string, int> seen;
-  for (const std::string& f : files) {
-    std::string stem = fs::path(f).stem().string();
-    const int n = ++seen[stem];
-    if (n > 1) stem += "_" + std::to_string(n);
-    jobs.push_back({f, (fs::path(out_dir) / stem).string(), {}});
-  }
+  const std::vector<std::string> stems = unique_output_names(files);
+  for (size_t k = 0; k < files.size(); ++k) jobs.push_back({files[k], (fs::path(out_dir) / stems[k]).string(), {}});
   int shard_index = 0, shard_count = 1;
   parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
   if (shard_count > 1) {
@@ -113,6 +110,14 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
 
   const auto basis = std::make_shared<const FitBasis>(FitBasis::load(values["face-model"].as<std::string>()));
   const PhotoFitter fitter(basis, fit_options);
+  // One run per output folder (the shards of one sharded run write disjoint names and share it).
+  {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    check(!ec, "cannot create output folder '", out_dir, "': ", ec.message());
+  }
+  const FolderLock lock(out_dir, "-o",
+                        shard_count > 1 ? FolderLock::Mode::kShared : FolderLock::Mode::kExclusive);
   const std::unique_ptr<FaceDetector> face_detector = make_face_detector(photo_options);
   FaceDetector& detector = *face_detector;
   const bool same_person = values.count("same-person") > 0;
