@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <system_error>
+#include <vector>
 
 #include "core/util/error.h"
 #include "core/util/stage_timer.h"
@@ -60,6 +62,13 @@ class Registered {
   int slot_;
 };
 
+// The open WriteBatch's temporaries of this thread, in the order they were written.
+struct PendingFile {
+  std::string temporary, path;
+  std::unique_ptr<Registered> registered;
+};
+thread_local std::vector<PendingFile>* t_batch = nullptr;
+
 extern "C" void remove_temporaries_and_die(int signal) {
   remove_registered_temporaries();
   ::signal(signal, SIG_DFL);
@@ -87,33 +96,97 @@ std::string temporary_path_for(const std::string& path) {
          std::to_string(counter++);
 }
 
-void commit_temporary(const std::string& temporary, const std::string& path) {
-  StageTimer timer("fsync");  // the rename and the folder's fsync that makes it durable
+namespace {
+// Renames a finished temporary over `path`; on failure removes it and throws.
+void rename_temporary(const std::string& temporary, const std::string& path) {
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
     fail("cannot write '", path, "': renaming the finished temporary file failed: ", why);
   }
-  // Make the rename itself durable; a failure here loses nothing already on disk.
+}
+
+std::string folder_of(const std::string& path) {
   const fs::path folder = fs::path(path).parent_path();
-  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  return folder.empty() ? std::string(".") : folder.string();
+}
+
+// Makes a rename in `folder` durable; a failure here loses nothing already on disk.
+void sync_folder(const std::string& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd >= 0) {
     ::fsync(fd);
     ::close(fd);
   }
 }
+}  // namespace
+
+void commit_temporary(const std::string& temporary, const std::string& path) {
+  StageTimer timer("fsync");  // the rename and the folder's fsync that makes it durable
+  rename_temporary(temporary, path);
+  sync_folder(folder_of(path));
+}
 
 void write_atomically(const std::string& final_path,
                       const std::function<void(const std::string& temporary)>& write) {
   const std::string temporary = temporary_path_for(final_path);
-  const Registered registered(temporary);
+  auto registered = std::make_unique<Registered>(temporary);
   try {
     write(temporary);
   } catch (...) {
     std::remove(temporary.c_str());
     throw;
   }
+  if (t_batch) {  // renamed by the batch's commit()
+    t_batch->push_back({temporary, final_path, std::move(registered)});
+    return;
+  }
   commit_temporary(temporary, final_path);
+}
+
+WriteBatch::WriteBatch() : outer_(t_batch == nullptr) {
+  if (outer_) t_batch = new std::vector<PendingFile>();
+}
+
+WriteBatch::~WriteBatch() {
+  if (!outer_ || !t_batch) return;
+  for (const PendingFile& file : *t_batch) std::remove(file.temporary.c_str());
+  delete t_batch;
+  t_batch = nullptr;
+}
+
+void WriteBatch::commit() {
+  if (!outer_ || !t_batch) return;
+  std::unique_ptr<std::vector<PendingFile>> files(t_batch);
+  t_batch = nullptr;
+  StageTimer timer("fsync");
+  size_t renamed = 0;
+  try {
+    if (!files->empty()) {
+      // One flush of the file system holding the temporaries (all in the folders of one run).
+      const int fd = ::open(folder_of(files->front().temporary).c_str(),
+                            O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+      int error = fd < 0 ? errno : 0;
+      if (fd >= 0) {
+        if (::syncfs(fd) != 0) error = errno;
+        ::close(fd);
+      }
+      if (error != 0)
+        fail("cannot write '", files->front().path, "': ", std::strerror(error),
+             write_failure_advice(error));
+    }
+    std::vector<std::string> folders;
+    for (; renamed < files->size(); ++renamed) {
+      const PendingFile& file = (*files)[renamed];
+      rename_temporary(file.temporary, file.path);
+      const std::string folder = folder_of(file.path);
+      if (std::find(folders.begin(), folders.end(), folder) == folders.end()) folders.push_back(folder);
+    }
+    for (const std::string& folder : folders) sync_folder(folder);
+  } catch (...) {
+    for (size_t k = renamed; k < files->size(); ++k) std::remove((*files)[k].temporary.c_str());
+    throw;
+  }
 }
 
 std::string write_failure_advice(int error) {
@@ -141,6 +214,7 @@ namespace {
 // name `path`, the file the temporary stands for.
 void write_checked(const std::string& temporary, const std::string& path, const void* data,
                    size_t size) {
+  const bool sync = t_batch == nullptr;  // a WriteBatch syncs all its files at once
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) {
     const int error = errno;
@@ -162,7 +236,7 @@ void write_checked(const std::string& temporary, const std::string& path, const 
   write_timer.reset();
   {
     StageTimer timer("fsync");
-    if (error == 0 && ::fsync(fd) != 0) error = errno;
+    if (error == 0 && sync && ::fsync(fd) != 0) error = errno;
   }
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0)
@@ -177,6 +251,10 @@ void write_file_atomically(const std::string& path, const void* data, size_t siz
 }
 
 void write_files_atomically(const std::vector<FileContents>& files) {
+  if (t_batch) {  // the open batch gives the all-or-nothing already
+    for (const FileContents& file : files) write_file_atomically(file.path, file.bytes.data(), file.bytes.size());
+    return;
+  }
   std::vector<std::string> temporaries;
   std::vector<std::unique_ptr<Registered>> registered;
   try {

@@ -30,6 +30,28 @@ struct FileContents {
 // Writes several files that belong together: every temporary is written and checked first, and
 // only when all succeeded are they renamed; on failure none of the paths is touched.
 void write_files_atomically(const std::vector<FileContents>& files);
+
+// Files written together, made durable together. While a WriteBatch is open on a thread, every
+// atomic write of that thread (write_atomically and what is built on it) leaves its finished
+// temporary unsynced and unrenamed; commit() then makes all of them durable with one syncfs of
+// their file system, renames them over their final paths and fsyncs each folder once: one
+// flush for a photo's ~20 files instead of two per file. Destroyed without commit() (a write
+// failed), it removes the temporaries and no final path is touched. A batch opened while
+// another is open on the thread joins the outer one (its commit() does nothing).
+class WriteBatch {
+ public:
+  WriteBatch();
+  ~WriteBatch();
+  WriteBatch(const WriteBatch&) = delete;
+  WriteBatch& operator=(const WriteBatch&) = delete;
+  // Syncs, renames and syncs the folders; on failure removes the temporaries not yet renamed
+  // and throws facetool::Error naming the file and what to do.
+  void commit();
+
+ private:
+  bool outer_;
+};
+
 // The same for text (light files, manifests, JSON).
 void write_text_atomically(const std::string& path, const std::string& text);
 // What to do after a write failed with errno `error` (" (the disk is full: ...)").

@@ -1,4 +1,4 @@
-// RGBA PNG writing through OpenImageIO.
+// RGBA PNG writing: encoded in memory (image_encoding.h), then written atomically.
 #include "libs/face/rgba_png.h"
 
 #include <OpenImageIO/imageio.h>
@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/stage_timer.h"
+#include "libs/io/image_encoding.h"
 
 namespace facetool {
 
@@ -19,6 +22,7 @@ void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
   const size_t count = static_cast<size_t>(rgb.width) * rgb.height;
   check(count > 0 && alpha.size() == count, "cannot write '", path,
         "': empty image or alpha of the wrong size");
+  std::optional<StageTimer> timer(std::in_place, "encode");  // 8-bit conversion and compression
   std::vector<uint8_t> bytes(count * 4);
   auto quantise = [](float v) {
     return static_cast<uint8_t>(std::lround((v == v ? std::clamp(v, 0.0f, 1.0f) : 0.0f) * 255.0f));
@@ -30,16 +34,12 @@ void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
     }
     bytes[p * 4 + 3] = quantise(alpha[p]);
   }
-  write_atomically(path, [&](const std::string& temp_path) {
-    auto output = OIIO::ImageOutput::create("png");
-    check(output != nullptr, "OpenImageIO has no PNG writer: ", OIIO::geterror());
-    OIIO::ImageSpec spec(rgb.width, rgb.height, 4, OIIO::TypeDesc::UINT8);
-    spec.alpha_channel = 3;
-    if (!output->open(temp_path, spec)) fail("cannot create '", temp_path, "': ", output->geterror());
-    if (!output->write_image(OIIO::TypeDesc::UINT8, bytes.data()))
-      fail("cannot write '", temp_path, "': ", output->geterror());
-    if (!output->close()) fail("cannot finish '", temp_path, "': ", output->geterror());
-  });
+  OIIO::ImageSpec spec(rgb.width, rgb.height, 4, OIIO::TypeDesc::UINT8);
+  spec.alpha_channel = 3;
+  const std::vector<unsigned char> encoded =
+      encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  timer.reset();
+  write_file_atomically(path, encoded.data(), encoded.size());
 }
 
 }  // namespace facetool

@@ -74,7 +74,9 @@ std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImag
   spec.channelnames = image.channel_names;
   spec.alpha_channel = -1;
   spec.z_channel = -1;
-  spec.attribute("compression", "zip");
+  // Run-length: lossless, and on infer's 25-channel photo.exr 20x faster to encode than zip for
+  // a file about 13 % larger (docs/performance.md).
+  spec.attribute("compression", "rle");
   // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
   // empty so the same content always gives the same bytes.
   spec.attribute("DateTime", "");

@@ -1,11 +1,13 @@
 // The files of `facetool infer` on photos: per face, per photo, and the loop over photos.
 #include "libs/photo/photo_files.h"
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "libs/face/detection_summary.h"
@@ -17,6 +19,7 @@
 #include "libs/io/layered_image.h"
 #include "libs/photo/decomposition_files.h"
 #include "core/util/atomic_file.h"
+#include "core/util/background_worker.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 #include "core/util/memory_budget.h"
@@ -145,14 +148,18 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
 int infer_photos(const std::vector<std::string>& photos, const std::vector<std::string>& folders,
                  const std::string& out_dir, PhotoDecomposer& decomposer, const PhotoInferOptions& options) {
   check(photos.size() == folders.size(), "infer: ", photos.size(), " photos for ", folders.size(), " folder names");
-  int failed = 0;
+  std::atomic<int> failed{0};
   DetectionSummary summary;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
+  // A photo's files are encoded and written on the worker while the next photo is decoded,
+  // detected and run through the network; they land together (WriteBatch: one flush per photo,
+  // all of them or none). A failure to write them (a full disk) ends the run at the next photo.
+  BackgroundWorker writer;
   for (size_t k = 0; k < photos.size(); ++k) {
     const std::string& path = photos[k];
     // A photo that cannot be read, has no face or is too large for the memory left is reported
-    // and skipped; a failure to write its results (a full disk) ends the run.
-    DecomposedPhoto photo;
+    // and skipped.
+    auto photo = std::make_shared<DecomposedPhoto>();
     try {
       RgbImage image;
       try {
@@ -165,12 +172,12 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
         fail("photo '", path, "': ", e.what());
       }
       try {
-        photo = decomposer.decompose(std::move(image), path);
+        *photo = decomposer.decompose(std::move(image), path);
       } catch (const NoFaceError& e) {
         summary.add(path, 0, e.reason());
         throw;
       }
-      summary.add(path, static_cast<int>(photo.crops.size()));
+      summary.add(path, static_cast<int>(photo->crops.size()));
     } catch (const std::bad_alloc&) {
       std::cerr << "\nphoto '" << path << "': " << out_of_memory("processing photo '" + path + "'", 0).what() << "\n";
       ++failed;
@@ -182,18 +189,24 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
       progress.advance();
       continue;
     }
-    try {
-      write_photo_files((fs::path(out_dir) / folders[k]).string(), photo, options);
-    } catch (const std::bad_alloc&) {
-      std::cerr << "\nphoto '" << path << "': "
-                << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
-      ++failed;
-    }
+    const std::string folder = (fs::path(out_dir) / folders[k]).string();
+    writer.submit([photo, folder, path, &options, &failed] {
+      try {
+        WriteBatch batch;
+        write_photo_files(folder, *photo, options);
+        batch.commit();
+      } catch (const std::bad_alloc&) {
+        std::cerr << "\nphoto '" << path << "': "
+                  << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
+        ++failed;
+      }
+    });
     progress.advance();
   }
+  writer.finish();
   progress.finish();
   summary.print(std::cerr);
-  return failed;
+  return failed.load();
 }
 
 }  // namespace facetool

@@ -17,7 +17,9 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
 
 
 // Runs every photo `photos[k]` into <out_dir>/<folders[k]>/; a photo that cannot be read or has
-// no face gets a line on stderr and the run goes on. Returns the number of such photos.
+// no face gets a line on stderr and the run goes on. Returns the number of such photos. Each
+// photo's files are written on a worker thread while the next photo is processed, and land
+// together: all of a photo's files or none of them (a WriteBatch, one flush per photo).
 int infer_photos(const std::vector<std::string>& photos, const std::vector<std::string>& folders,
                  const std::string& out_dir, PhotoDecomposer& decomposer, const PhotoInferOptions& options);
 

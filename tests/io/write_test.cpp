@@ -63,6 +63,46 @@ TEST_F(AtomicWrite, FilesThatBelongTogetherAreAllKeptWhenOneCannotBeWritten) {
   EXPECT_EQ(listing(), before);
 }
 
+// A WriteBatch renames nothing before commit(): a failure in the middle of a photo's files
+// (here the third cannot be written) leaves every earlier file as it was and no temporary; a
+// commit lands all of them; a batch opened inside another joins it.
+TEST_F(AtomicWrite, ABatchLandsAllItsFilesAtCommitOrNone) {
+  write_text_atomically(file("a.txt"), "old a");
+  const std::set<std::string> before = listing();
+  try {
+    WriteBatch batch;
+    write_text_atomically(file("a.txt"), "new a");
+    write_text_atomically(file("b.txt"), "new b");
+    EXPECT_EQ(contents(file("a.txt")), "old a") << "renamed before the commit";
+    EXPECT_FALSE(fs::exists(file("b.txt"))) << "renamed before the commit";
+    write_text_atomically(file("no_such_folder/c.txt"), "c");
+    batch.commit();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_folder/c.txt"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(contents(file("a.txt")), "old a");
+  EXPECT_EQ(listing(), before) << "a temporary or a new file was left behind";
+
+  {
+    WriteBatch batch;
+    write_text_atomically(file("a.txt"), "new a");
+    {
+      WriteBatch inner;  // joins the outer batch: its commit lands nothing yet
+      write_files_atomically({{file("b.txt"), bytes_of("new b")}});
+      inner.commit();
+      EXPECT_FALSE(fs::exists(file("b.txt")));
+    }
+    batch.commit();
+  }
+  EXPECT_EQ(contents(file("a.txt")), "new a");
+  EXPECT_EQ(contents(file("b.txt")), "new b");
+  EXPECT_EQ(listing(), (std::set<std::string>{"a.txt", "b.txt"}));
+  // Without a batch the writes land at once again.
+  write_text_atomically(file("a.txt"), "newer a");
+  EXPECT_EQ(contents(file("a.txt")), "newer a");
+}
+
 TEST_F(AtomicWrite, AFailureNamesTheFileAndTheSystemsReason) {
   write_text_atomically(file("plain"), "x");
   const std::string below_a_file = file("plain/out.png");
