@@ -30,7 +30,7 @@ void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
   for (size_t p = 0; p < count; ++p) {
     for (int c = 0; c < 3; ++c) {
       const float v = rgb.pixels[p * 3 + c];
-      bytes[p * 4 + c] = quantise(encode_srgb ? linear_to_srgb(v) : v);
+      bytes[p * 4 + c] = encode_srgb ? linear_to_srgb8(v) : quantise(v);
     }
     bytes[p * 4 + 3] = quantise(alpha[p]);
   }

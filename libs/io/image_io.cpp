@@ -4,8 +4,10 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <new>
 
@@ -25,6 +27,54 @@ namespace OIIO = OIIO_NAMESPACE;
 float linear_to_srgb(float linear) {
   const float x = std::clamp(linear, 0.0f, 1.0f);
   return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+namespace {
+float float_from_bits(uint32_t bits) {
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+uint8_t linear_to_srgb8_directly(float linear) {
+  const float v = linear_to_srgb(linear);
+  return static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
+}
+
+// The steps of linear_to_srgb8: thresholds[k] is the smallest float in [0, 1] whose byte is
+// k + 1 or more (found by bisection over the ordered bit patterns of floats; the byte never
+// decreases as the value grows), thresholds[255] a sentinel above 1; first[i] the byte at the
+// value i / kBins, where a search for v in [i / kBins, (i + 1) / kBins) starts (at most a few
+// steps on).
+struct Srgb8Steps {
+  static constexpr int kBins = 4096;
+  std::array<float, 256> thresholds{};
+  std::array<uint8_t, kBins> first{};
+
+  Srgb8Steps() {
+    const uint32_t one = 0x3f800000u;  // the bits of 1.0f
+    for (int k = 1; k <= 255; ++k) {
+      uint32_t low = 0, high = one;  // byte(low) < k <= byte(high)
+      while (high - low > 1) {
+        const uint32_t middle = low + (high - low) / 2;
+        (linear_to_srgb8_directly(float_from_bits(middle)) >= k ? high : low) = middle;
+      }
+      thresholds[k - 1] = float_from_bits(high);
+    }
+    thresholds[255] = 2.0f;
+    for (int i = 0; i < kBins; ++i) first[i] = linear_to_srgb8_directly(static_cast<float>(i) / kBins);
+  }
+};
+const Srgb8Steps g_srgb8_steps;
+}  // namespace
+
+uint8_t linear_to_srgb8(float linear) {
+  if (!(linear > 0.0f)) return 0;  // NaN, zero and below
+  if (linear >= 1.0f) return 255;
+  // linear * kBins is exact (a power of two), so the bin's lower edge is at or below `linear`.
+  int byte = g_srgb8_steps.first[static_cast<int>(linear * Srgb8Steps::kBins)];
+  while (linear >= g_srgb8_steps.thresholds[byte]) ++byte;
+  return static_cast<uint8_t>(byte);
 }
 
 float srgb_to_linear(float encoded) {
@@ -116,8 +166,11 @@ std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& r
   check(rgb.width > 0 && rgb.height > 0, "cannot write '", path, "': the image is empty");
   std::vector<uint8_t> bytes(rgb.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {
-    const float v = encode_srgb ? linear_to_srgb(rgb.pixels[i])
-                                : std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
+    if (encode_srgb) {
+      bytes[i] = linear_to_srgb8(rgb.pixels[i]);
+      continue;
+    }
+    const float v = std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
     bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
   }
   const OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);

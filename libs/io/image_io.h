@@ -42,6 +42,10 @@ void check_image_header_plausible(const std::string& path, const std::string& fo
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
+// lround(255 * linear_to_srgb(linear)), 0 for NaN: the same byte as computing it, found by a
+// binary search over the 255 linear values where the byte steps (computed once from
+// linear_to_srgb itself), several times faster than the power function per pixel.
+uint8_t linear_to_srgb8(float linear);
 
 // Writes `rgb` (linear values, clamped to [0, 1], sRGB-encoded on the way) as an 8-bit PNG,
 // atomically (temporary name, then rename). With encode_srgb = false the values are written as
