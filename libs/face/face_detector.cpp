@@ -392,6 +392,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
       face.score = f.box.score;
       face.detector = f.detector;
       face.rotation_deg = degrees;
+      face.padding = static_cast<double>(pad);
       faces.push_back(face);
       work_boxes.push_back(mapped);
     }

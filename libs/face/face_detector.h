@@ -30,7 +30,11 @@ struct DetectedFace {
   std::string detector = "hog";                      // which one found it: "hog" or "cnn"
   Landmarks68 landmarks{};                           // photo pixels
   double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
+  double padding = 0;       // pixels the photo was padded by on every side for the search
   double size() const { return std::max(right - left, bottom - top); }
+  // How it was found, for reports: the detector, "-turned" when found in a turned photo
+  // ("hog", "hog-turned", "cnn", "cnn-turned").
+  std::string found_by() const { return rotation_deg != 0 ? detector + "-turned" : detector; }
 };
 
 struct DetectionOptions {
