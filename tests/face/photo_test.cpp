@@ -131,8 +131,12 @@ TEST_P(AlignmentInvariance, TurnedAndScaledPhotoGivesTheSameCrop) {
   ASSERT_EQ(a.size(), 1u);
   ASSERT_EQ(b.size(), 1u) << "no single face after turning by " << v.degrees << " degrees";
   // Upright the HOG detector finds faces within about 20 degrees of roll; 90 takes a turn.
-  if (v.degrees == 90) EXPECT_EQ(b[0].found_by(), "hog-turned");
-  if (v.degrees == 0) EXPECT_EQ(b[0].found_by(), "hog");
+  if (v.degrees == 90) {
+    EXPECT_EQ(b[0].found_by(), "hog-turned");
+  }
+  if (v.degrees == 0) {
+    EXPECT_EQ(b[0].found_by(), "hog");
+  }
   const FaceCrop ca = crop_face(photo, a[0], size, false), cb = crop_face(changed, b[0], size, false);
   double landmark_error = 0;
   for (int i = 17; i < kLandmarkCount; ++i)
