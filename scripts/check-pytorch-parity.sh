@@ -25,6 +25,6 @@ fi
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$python" scripts/pytorch_reference.py export-random "$work/random.safetensors" --width 32 --seed 7
-"$facetool" --backend "$backend" infer --aligned "$work/random.png" --model "$work/random.safetensors" \
+"$facetool" --backend "$backend" infer --aligned --stretch "$work/random.png" --model "$work/random.safetensors" \
   -o "$work/out" --no-contact-sheet --raw-output "$work/raw.safetensors"
 "$python" scripts/pytorch_reference.py compare "$work/random.safetensors" "$work/raw.safetensors" --seed 7

@@ -10,7 +10,7 @@
                              format (docs/model-format.md), plus a 128x128 test image W.png
   compare W.safetensors RAW.safetensors
                              compares PyTorch's eval-mode outputs on W.png with the
-                             `--raw-output` of `facetool infer --aligned W.png --model W.safetensors`
+                             `--raw-output` of `facetool infer --aligned --stretch W.png --model W.safetensors`
 
 Needs python3 with torch and numpy (Debian: python3-torch); facetool itself does not.
 scripts/check-pytorch-parity.sh runs export-random, facetool infer and compare in one go.

@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
       ps                                   reference normals, albedo, reliability masks
-      infer  [--facetool BIN]              the shipped model (as given, padded, --aligned)
+      infer  [--facetool BIN]              the shipped model (as given, padded, --aligned --stretch)
       fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
       score  [--pred NAME=DIR ...] [--markdown FILE]
       run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
@@ -15,7 +15,7 @@ gain per strobe calibrated over all subjects) and writes `CACHE/ps/<subject>/nor
 (camera frame: +X the viewer's right, +Y up, +Z towards the camera; (0,0,0) where unreliable),
 `albedo.exr`, `reliable.exr` (the reliability mask), `diagnostics.exr` and `stats.json`.
 `infer` runs `facetool infer` on the evaluation photos (the frontal, +-25 and +-50 degree
-azimuth strobes at elevation 0): as given, padded (cut back to the photo), and `--aligned`;
+azimuth strobes at elevation 0): as given, padded (cut back to the photo), and `--aligned --stretch`;
 it also gathers each subject's landmarks for the template. `score` scores every prediction
 folder (`DIR/<photo stem>/normal.exr`, or infer's `photo.exr`) against the PS normals inside the
 reliability mask (where the template is defined), with the constant normal and a leave-one-out
@@ -474,7 +474,7 @@ def command_infer(args):
     facetool = find_facetool(args.facetool)
     photos = eval_photos(args.data)
     pred = os.path.join(args.cache, "pred")
-    for name, extra in (("infer", []), ("infer-aligned", ["--aligned"])):
+    for name, extra in (("infer", []), ("infer-aligned", ["--aligned", "--stretch"])):
         out = os.path.join(pred, name)
         make_clean(out)
         print(f"facetool infer {' '.join(extra)} on {len(photos)} photos -> {out}", flush=True)

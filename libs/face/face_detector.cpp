@@ -8,6 +8,7 @@
 #include <dlib/serialize.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -119,8 +120,8 @@ constexpr double kWindow = 80;  // both detectors' window, pixels
 // face and map the points back.
 constexpr double kRefitRollDeg = 8;
 
-void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
-                   const dlib::drectangle& box, Landmarks68& landmarks) {
+// The eye line's angle (radians, y down) from the centres of the two eyes' six points.
+double eye_line_roll(const Landmarks68& landmarks) {
   Point2 left, right;
   for (int i = 36; i < 42; ++i) {
     left.x += landmarks[i].x / 6;
@@ -128,7 +129,12 @@ void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<u
     right.x += landmarks[i + 6].x / 6;
     right.y += landmarks[i + 6].y / 6;
   }
-  const double roll = std::atan2(right.y - left.y, right.x - left.x);
+  return std::atan2(right.y - left.y, right.x - left.x);
+}
+
+void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
+                   const dlib::drectangle& box, Landmarks68& landmarks) {
+  const double roll = eye_line_roll(landmarks);
   if (std::abs(roll) < kRefitRollDeg * kPi / 180) return;
   const dlib::dpoint centre = dlib::center(box);
   const double size = std::max(box.width(), box.height());
@@ -145,6 +151,74 @@ void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<u
     const dlib::dpoint q = back(dlib::dpoint(shape.part(i).x(), shape.part(i).y()));
     landmarks[i] = {q.x(), q.y()};
   }
+}
+
+// The 68-point layout (Multi-PIE / iBUG) seen in a mirror: the index of each point's
+// counterpart on the other side of the face (points on the midline keep theirs).
+constexpr std::array<int, kLandmarkCount> kMirroredIndex = {
+    16, 15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0,  // jaw
+    26, 25, 24, 23, 22, 21, 20, 19, 18, 17,                    // brows
+    27, 28, 29, 30,                                            // nose bridge
+    35, 34, 33, 32, 31,                                        // nostrils
+    45, 44, 43, 42, 47, 46, 39, 38, 37, 36, 41, 40,            // eyes
+    54, 53, 52, 51, 50, 49, 48, 59, 58, 57, 56, 55,            // outer lips
+    64, 63, 62, 61, 60, 67, 66, 65};                           // inner lips
+
+// The photo around an inclusive box `box` as the predictor sees it: turned by `roll` (radians)
+// about the box centre and scaled by `scale`, with a margin of a quarter of the box on every
+// side. With roll 0 and scale 1 it is an exact copy of the pixels.
+struct Chip {
+  dlib::array2d<unsigned char> image;
+  dlib::point_transform_affine to_chip;  // photo pixels to chip pixels
+  double centre_x = 0, centre_y = 0, half_width = 0, half_height = 0;  // the box in the chip
+};
+
+Chip make_chip(const dlib::array2d<unsigned char>& grey, const dlib::rectangle& box, double roll, double scale) {
+  const long side = std::max(box.right() - box.left(), box.bottom() - box.top());  // pixel centres
+  const long margin = (side + 3) / 4;
+  const double extent = static_cast<double>(side + 2 * margin);
+  const long size = std::lround(extent * scale) + 1;
+  const double left = static_cast<double>(box.left() - margin), top = static_cast<double>(box.top() - margin);
+  const dlib::chip_details details(dlib::drectangle(left, top, left + extent, top + extent),
+                                   dlib::chip_dims(size, size), roll);
+  Chip chip;
+  dlib::extract_image_chip(grey, details, chip.image);
+  chip.to_chip = dlib::get_mapping_to_chip(details);
+  const dlib::dpoint centre((box.left() + box.right()) / 2.0, (box.top() + box.bottom()) / 2.0);
+  const double s = dlib::length(chip.to_chip(centre + dlib::dpoint(1, 0)) - chip.to_chip(centre));
+  const dlib::dpoint c = chip.to_chip(centre);
+  chip.centre_x = c.x();
+  chip.centre_y = c.y();
+  chip.half_width = s * (box.right() - box.left()) / 2;
+  chip.half_height = s * (box.bottom() - box.top()) / 2;
+  return chip;
+}
+
+// One fit of the predictor on `chip`, mirrored left to right if asked; the points come back in
+// photo pixels, in the unmirrored layout.
+Landmarks68 fit_on_chip(const dlib::shape_predictor& predictor, const Chip& chip, bool mirror) {
+  const long width = chip.image.nc();
+  const double cx = mirror ? width - 1 - chip.centre_x : chip.centre_x;
+  const dlib::rectangle box(std::lround(cx - chip.half_width), std::lround(chip.centre_y - chip.half_height),
+                            std::lround(cx + chip.half_width), std::lround(chip.centre_y + chip.half_height));
+  dlib::full_object_detection shape;
+  if (mirror) {
+    dlib::array2d<unsigned char> flipped;
+    dlib::flip_image_left_right(chip.image, flipped);
+    shape = predictor(flipped, box);
+  } else {
+    shape = predictor(chip.image, box);
+  }
+  check(shape.num_parts() == kLandmarkCount, "the landmark model gives ", shape.num_parts(),
+        " points; facetool needs a 68-point model");
+  const dlib::point_transform_affine back = dlib::inv(chip.to_chip);
+  Landmarks68 out;
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    const double x = static_cast<double>(shape.part(i).x()), y = static_cast<double>(shape.part(i).y());
+    const dlib::dpoint q = back(dlib::dpoint(mirror ? width - 1 - x : x, y));
+    out[mirror ? kMirroredIndex[i] : i] = {q.x(), q.y()};
+  }
+  return out;
 }
 
 // The landmark model was trained on boxes of dlib's HOG detector. A CNN box (same face) is
@@ -183,13 +257,40 @@ dlib::drectangle box_from_landmarks(const Landmarks68& l) {
   return mapped_box(lx, ly, hx, hy, kLandmarksToHog);
 }
 
+Landmarks68 mean_of(const Landmarks68& a, const Landmarks68& b) {
+  Landmarks68 mean;
+  for (int i = 0; i < kLandmarkCount; ++i) mean[i] = {(a[i].x + b[i].x) / 2, (a[i].y + b[i].y) / 2};
+  return mean;
+}
+
+// The landmarks in `box` (HOG convention, work-image pixels): one fit in the box as it is
+// (mirror_landmarks off, landmark_box_pixels 0), or on a chip scaled to landmark_box_pixels,
+// averaged with the fit of the mirrored chip; a face whose eye line is tilted by more than
+// kRefitRollDeg is fitted again on a chip turned upright.
 Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
-                          const dlib::drectangle& box) {
-  Landmarks68 landmarks = to_landmarks(predictor(
-      grey, dlib::rectangle(std::lround(box.left()), std::lround(box.top()),
-                            std::lround(box.right()) - 1, std::lround(box.bottom()) - 1)));
-  refit_upright(predictor, grey, box, landmarks);
-  return landmarks;
+                          const dlib::drectangle& box, const DetectionOptions& options) {
+  const dlib::rectangle whole(std::lround(box.left()), std::lround(box.top()), std::lround(box.right()) - 1,
+                              std::lround(box.bottom()) - 1);
+  if (!options.mirror_landmarks && options.landmark_box_pixels <= 0) {
+    Landmarks68 landmarks = to_landmarks(predictor(grey, whole));
+    refit_upright(predictor, grey, box, landmarks);
+    return landmarks;
+  }
+  const double side = std::max(1L, std::max(whole.right() - whole.left(), whole.bottom() - whole.top()));
+  // Small boxes are scaled up to landmark_box_pixels; boxes over twice that are scaled down to
+  // twice that (the chip's cost grows with the box's area; the predictor needs no more).
+  const double target = options.landmark_box_pixels > 0 ? options.landmark_box_pixels : side;
+  const double scale = side < target ? target / side : side > 2 * target ? 2 * target / side : 1.0;
+  const Chip upright_chip = make_chip(grey, whole, 0, scale);
+  const Landmarks68 first = fit_on_chip(predictor, upright_chip, false);
+  double roll = eye_line_roll(first);
+  if (std::abs(roll) < kRefitRollDeg * kPi / 180) roll = 0;
+  if (roll != 0) {
+    const Chip turned = make_chip(grey, whole, roll, scale);
+    const Landmarks68 upright = fit_on_chip(predictor, turned, false);
+    return options.mirror_landmarks ? mean_of(upright, fit_on_chip(predictor, turned, true)) : upright;
+  }
+  return options.mirror_landmarks ? mean_of(first, fit_on_chip(predictor, upright_chip, true)) : first;
 }
 
 // The photo as dlib sees it, padded on every side by `pad` pixels of its mean colour.
@@ -377,9 +478,9 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
                       [&](const ScoredBox& b) { return same_face(b, mapped); }))
         continue;
       Landmarks68 landmarks = fit_landmarks(impl_->predictor, grey,
-                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes));
+                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes), options);
       if (options.refit_landmarks)
-        landmarks = fit_landmarks(impl_->predictor, grey, box_from_landmarks(landmarks));
+        landmarks = fit_landmarks(impl_->predictor, grey, box_from_landmarks(landmarks), options);
       DetectedFace face;
       for (int i = 0; i < kLandmarkCount; ++i) {
         const dlib::dpoint q = back(dlib::dpoint(landmarks[i].x, landmarks[i].y));
@@ -392,6 +493,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
       face.score = f.box.score;
       face.detector = f.detector;
       face.rotation_deg = degrees;
+      face.padding = static_cast<double>(pad);
       faces.push_back(face);
       work_boxes.push_back(mapped);
     }

@@ -30,7 +30,11 @@ struct DetectedFace {
   std::string detector = "hog";                      // which one found it: "hog" or "cnn"
   Landmarks68 landmarks{};                           // photo pixels
   double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
+  double padding = 0;       // pixels the photo was padded by on every side for the search
   double size() const { return std::max(right - left, bottom - top); }
+  // How it was found, for reports: the detector, "-turned" when found in a turned photo
+  // ("hog", "hog-turned", "cnn", "cnn-turned").
+  std::string found_by() const { return rotation_deg != 0 ? detector + "-turned" : detector; }
 };
 
 struct DetectionOptions {
@@ -52,6 +56,13 @@ struct DetectionOptions {
   bool map_cnn_boxes = true;
   // Fit the landmarks a second time in the HOG-convention box derived from the first fit.
   bool refit_landmarks = false;
+  // Fit the landmarks also on the mirrored face and average the two fits (the mirrored fit's
+  // points un-mirrored, left and right swapped): docs/photos.md, "Landmark boxes".
+  bool mirror_landmarks = true;
+  // Fit the landmarks on a chip scaled so that the box is at least this many pixels wide and at
+  // most twice this (0: at the photo's scale). dlib gives whole pixels, so small faces gain
+  // sub-pixel points; big ones cost less.
+  double landmark_box_pixels = 200;
   // When the upright photo has no face, the photo turned by these angles (degrees, counter-
   // clockwise on screen) is searched in turn until one has; the HOG detector finds only
   // roughly upright faces (about +-20 degrees of roll).

@@ -57,7 +57,8 @@ std::string faces_json(const std::string& source, const std::vector<FaceCrop>& c
     const Similarity2& t = c.alignment.photo_to_crop;
     o << (k ? "," : "") << "\n    {\"folder\": \"face_" << k << "\", \"score\": " << c.face.score
       << ", \"box\": [" << c.face.left << ", " << c.face.top << ", " << c.face.right << ", "
-      << c.face.bottom << "], \"found_turned_deg\": " << c.face.rotation_deg
+      << c.face.bottom << "], \"found_by\": \"" << c.face.found_by() << "\", \"found_turned_deg\": "
+      << c.face.rotation_deg << ", \"padding_px\": " << c.face.padding
       << ",\n     \"photo_to_crop\": [[" << t.a << ", " << -t.b << ", " << t.tx << "], [" << t.b
       << ", " << t.a << ", " << t.ty << "]], \"crop_size\": " << c.alignment.crop_size
       << ",\n     \"landmarks\": [";

@@ -288,5 +288,112 @@ TEST_F(HardPhotos, MissingOrDamagedCnnModelIsNamedAndHogStillWorks) {
   std::filesystem::remove(damaged);
 }
 
+// Distance from `p` to the segment a-b.
+double segment_distance(const Point2& p, const Point2& a, const Point2& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+  const double t = length2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+
+// Draws glasses placed by `l` onto `photo`: per eye a lens ellipse centred on the eye's six
+// points, 1.6 times the eye's corner-to-corner width across and 0.9 times it high, turned with
+// the eye line; a near-black frame 0.05 inter-ocular distances thick around each lens, a bridge
+// between them and temple arms to the jaw line's ends (points 0 and 16). The light through the
+// lenses is multiplied by `tint` (linear; 1: clear glasses, 0.02: dark sunglasses).
+void draw_glasses(RgbImage& photo, const Landmarks68& l, double tint) {
+  auto centre = [&](int first) {
+    Point2 c;
+    for (int i = first; i < first + 6; ++i) {
+      c.x += l[i].x / 6;
+      c.y += l[i].y / 6;
+    }
+    return c;
+  };
+  const Point2 eyes[2] = {centre(36), centre(42)};
+  const double widths[2] = {std::hypot(l[39].x - l[36].x, l[39].y - l[36].y), std::hypot(l[45].x - l[42].x, l[45].y - l[42].y)};
+  const double iod = inter_ocular(l), thick = 0.05 * iod;
+  const double angle = std::atan2(eyes[1].y - eyes[0].y, eyes[1].x - eyes[0].x);
+  const double ux = std::cos(angle), uy = std::sin(angle);
+  double a[2], b[2];
+  for (int k = 0; k < 2; ++k) {
+    a[k] = 0.8 * widths[k];
+    b[k] = 0.45 * widths[k];
+  }
+  // Lens edges along the eye line: inner (towards the nose) and outer.
+  const Point2 inner[2] = {{eyes[0].x + a[0] * ux, eyes[0].y + a[0] * uy}, {eyes[1].x - a[1] * ux, eyes[1].y - a[1] * uy}};
+  const Point2 outer[2] = {{eyes[0].x - a[0] * ux, eyes[0].y - a[0] * uy}, {eyes[1].x + a[1] * ux, eyes[1].y + a[1] * uy}};
+  const float frame = 0.01f;
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x) {
+      const Point2 p{static_cast<double>(x), static_cast<double>(y)};
+      bool lens = false, rim = false;
+      for (int k = 0; k < 2; ++k) {
+        const double dx = p.x - eyes[k].x, dy = p.y - eyes[k].y;
+        const double u = dx * ux + dy * uy, v = -dx * uy + dy * ux;
+        const double r_in = (u / a[k]) * (u / a[k]) + (v / b[k]) * (v / b[k]);
+        const double r_out = (u / (a[k] + thick)) * (u / (a[k] + thick)) + (v / (b[k] + thick)) * (v / (b[k] + thick));
+        lens = lens || r_in <= 1;
+        rim = rim || (r_in > 1 && r_out <= 1);
+      }
+      rim = rim || segment_distance(p, inner[0], inner[1]) <= thick / 2 ||
+            segment_distance(p, outer[0], l[0]) <= thick / 2 || segment_distance(p, outer[1], l[16]) <= thick / 2;
+      float* px = photo.at(x, y);
+      for (int c = 0; c < 3; ++c) px[c] = rim ? frame : lens ? static_cast<float>(px[c] * tint) : px[c];
+    }
+}
+
+// Glasses drawn from the found landmarks onto UTKFace photos (../shared only; never copied into
+// the project): detection rate and how far the landmarks move from the unmodified photo's. The
+// figures of docs/photos.md ("Glasses"). A measurement, not a check: run with
+// --gtest_also_run_disabled_tests.
+TEST_F(HardPhotos, DISABLED_MeasureGlasses) {
+  const std::string folder = std::string(FACETOOL_SHARED_DIR) + "/assets/faces/utkface-crop-part1";
+  if (!std::filesystem::is_directory(folder)) GTEST_SKIP() << "UTKFace photos not found at " << folder;
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(folder)) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  const size_t step = std::max<size_t>(1, files.size() / 100);  // 100 photos spread over the list
+  struct Tally {
+    int found = 0, by_cnn = 0, by_hog_alone = 0;
+    double inner = 0, eyes = 0;
+  };
+  const std::pair<const char*, double> kinds[3] = {
+      {"clear glasses", 1.0}, {"tinted glasses (tint 0.12)", 0.12}, {"sunglasses (tint 0.02)", 0.02}};
+  Tally tally[3];
+  int photos = 0, photos_by_cnn = 0, photos_by_hog_alone = 0;
+  DetectionOptions hog;
+  hog.detector = DetectorChoice::hog;
+  for (size_t n = 0; n < files.size(); n += step) {
+    const RgbImage photo = read_photo(files[n]);
+    const std::vector<DetectedFace> faces = detector_->detect(photo);
+    if (faces.empty()) continue;
+    ++photos;
+    photos_by_cnn += faces[0].detector == "cnn";
+    photos_by_hog_alone += !detector_->detect(photo, hog).empty();
+    const Landmarks68& ref = faces[0].landmarks;
+    for (int k = 0; k < 3; ++k) {
+      RgbImage glasses = photo;
+      draw_glasses(glasses, ref, kinds[k].second);
+      const std::vector<DetectedFace> found = detector_->detect(glasses);
+      tally[k].by_hog_alone += !detector_->detect(glasses, hog).empty();
+      if (found.empty()) continue;
+      ++tally[k].found;
+      tally[k].by_cnn += found[0].detector == "cnn";
+      tally[k].inner += inner_error(found[0].landmarks, ref);
+      double eyes = 0;
+      for (int i = 36; i < 48; ++i)
+        eyes += std::hypot(found[0].landmarks[i].x - ref[i].x, found[0].landmarks[i].y - ref[i].y);
+      tally[k].eyes += eyes / 12 / inter_ocular(ref);
+    }
+  }
+  std::printf("unmodified: a face in %d photos (%d by the CNN; HOG alone %d)\n", photos, photos_by_cnn,
+              photos_by_hog_alone);
+  for (int k = 0; k < 3; ++k)
+    std::printf("%s: a face in %d of %d photos (%d by the CNN; HOG alone %d); landmarks moved by %.2f %% IOD "
+                "(inner points), %.2f %% (eyes)\n",
+                kinds[k].first, tally[k].found, photos, tally[k].by_cnn, tally[k].by_hog_alone,
+                100 * tally[k].inner / std::max(tally[k].found, 1), 100 * tally[k].eyes / std::max(tally[k].found, 1));
+}
+
 }  // namespace
 }  // namespace facetool

@@ -67,6 +67,8 @@ TEST_F(PhotoTest, EachExamplePhotoHasExactlyOneFace) {
     const DetectedFace& f = faces[0];
     EXPECT_GT(f.score, 0) << name;
     EXPECT_EQ(f.rotation_deg, 0) << name;
+    EXPECT_EQ(f.found_by(), "hog") << name;
+    EXPECT_EQ(f.padding, 128) << name;  // 0.25 of the shorter side, 512
     // Anatomy: the subject's right eye (36-41) left of the nose tip (30), left of the other eye.
     EXPECT_LT(f.landmarks[39].x, f.landmarks[30].x) << name;
     EXPECT_LT(f.landmarks[30].x, f.landmarks[42].x) << name;
@@ -78,6 +80,55 @@ TEST_F(PhotoTest, EachExamplePhotoHasExactlyOneFace) {
                     p.y >= f.top - 0.15 * f.size() && p.y <= f.bottom + 0.15 * f.size();
     EXPECT_EQ(inside_box, kLandmarkCount) << name;
     std::printf("%s: score %.2f, box %.0f px\n", name, f.score, f.size());
+  }
+}
+
+// The 68-point layout seen in a mirror, written out independently of the detector's table:
+// the jaw, brows and nostrils reverse, the eyes and lips swap sides point by point.
+int mirrored_landmark(int i) {
+  if (i <= 16) return 16 - i;
+  if (i <= 26) return 43 - i;
+  if (i <= 30) return i;
+  if (i <= 35) return 66 - i;
+  if (i <= 47) {  // eye contours: 36-39 <-> 45-42, 40-41 <-> 47-46
+    static const int eyes[12] = {45, 44, 43, 42, 47, 46, 39, 38, 37, 36, 41, 40};
+    return eyes[i - 36];
+  }
+  if (i <= 54) return 102 - i;
+  if (i <= 59) return 114 - i;
+  if (i <= 64) return 124 - i;
+  return 132 - i;
+}
+
+TEST_F(PhotoTest, MirroredPhotoGivesTheMirroredLandmarks) {
+  // The default fit averages the fits of the face and of its mirror image, so the points of the
+  // mirrored photo, mirrored back, must be those of the photo up to the detector's box (which
+  // need not be symmetric). A wrong left/right table would put points on the wrong side.
+  const RgbImage photo = read_photo(example("grace_hopper_512x512.jpg"));
+  RgbImage mirrored = photo;
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x)
+      for (int c = 0; c < 3; ++c) mirrored.at(x, y)[c] = photo.at(photo.width - 1 - x, y)[c];
+  for (const bool mirror : {true, false}) {
+    DetectionOptions options;
+    options.mirror_landmarks = mirror;
+    const std::vector<DetectedFace> a = detector_->detect(photo, options), b = detector_->detect(mirrored, options);
+    ASSERT_EQ(a.size(), 1u);
+    ASSERT_EQ(b.size(), 1u);
+    double error = 0;
+    for (int i = 17; i < kLandmarkCount; ++i) {
+      const Point2& q = b[0].landmarks[mirrored_landmark(i)];
+      error += std::hypot(a[0].landmarks[i].x - (photo.width - 1 - q.x), a[0].landmarks[i].y - q.y);
+    }
+    error /= kLandmarkCount - 17;
+    const double iod = std::hypot(a[0].landmarks[36].x - a[0].landmarks[45].x, a[0].landmarks[36].y - a[0].landmarks[45].y);
+    std::printf("%s: inner points of the mirrored photo %.2f px (%.2f %% IOD) from the photo's\n",
+                mirror ? "mirrored fit averaged in" : "one fit", error, 100 * error / iod);
+    // Measured 1.15 % averaged, 2.05 % with one fit; points on the wrong side would be tens of
+    // percent off.
+    if (mirror) {
+      EXPECT_LT(error / iod, 0.02);
+    }
   }
 }
 
@@ -128,6 +179,13 @@ TEST_P(AlignmentInvariance, TurnedAndScaledPhotoGivesTheSameCrop) {
   const std::vector<DetectedFace> a = detector_->detect(photo), b = detector_->detect(changed);
   ASSERT_EQ(a.size(), 1u);
   ASSERT_EQ(b.size(), 1u) << "no single face after turning by " << v.degrees << " degrees";
+  // Upright the HOG detector finds faces within about 20 degrees of roll; 90 takes a turn.
+  if (v.degrees == 90) {
+    EXPECT_EQ(b[0].found_by(), "hog-turned");
+  }
+  if (v.degrees == 0) {
+    EXPECT_EQ(b[0].found_by(), "hog");
+  }
   const FaceCrop ca = crop_face(photo, a[0], size, false), cb = crop_face(changed, b[0], size, false);
   double landmark_error = 0;
   for (int i = 17; i < kLandmarkCount; ++i)

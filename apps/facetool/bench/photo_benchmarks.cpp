@@ -25,7 +25,7 @@ double median(std::vector<double> v) {
 }
 
 void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repeats, std::ostream& out,
-               const DetectionOptions& options = {}) {
+               const DetectionOptions& options = {}, const char* note = "") {
   std::vector<double> detect, landmarks, align, paste;
   for (int r = 0; r < repeats; ++r) {
     const std::vector<DetectedFace> faces = detector.detect(photo, options);
@@ -48,11 +48,11 @@ void bench_one(FaceDetector& detector, const RgbImage& photo, int size, int repe
     paste_channels(region, crop_data.data(), 1, layers.data(), photo.width, photo.height);
     paste.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   }
-  char line[200];
+  char line[240];
   const double total = median(detect) + median(landmarks) + median(align) + median(paste);
-  std::snprintf(line, sizeof line, "%-4s %5d x %-5d %6.1f MP | detect %8.1f ms | landmarks %6.1f ms | align %6.1f ms | paste-back %6.1f ms | total %8.1f ms\n",
+  std::snprintf(line, sizeof line, "%-4s %5d x %-5d %6.1f MP | detect %8.1f ms | landmarks %6.1f ms | align %6.1f ms | paste-back %6.1f ms | total %8.1f ms%s\n",
                 detector_choice_name(options.detector), photo.width, photo.height, photo.width * photo.height / 1e6, median(detect) * 1e3,
-                median(landmarks) * 1e3, median(align) * 1e3, median(paste) * 1e3, total * 1e3);
+                median(landmarks) * 1e3, median(align) * 1e3, median(paste) * 1e3, total * 1e3, note);
   out << line;
 }
 
@@ -63,9 +63,17 @@ void run_photo_benchmarks(const std::string& photo_path, int crop_size, int repe
   const RgbImage photo = read_photo(photo_path);
   out << "photo pipeline on cpu (" << photo_path << ", crop " << crop_size << ", median of "
       << repeats << "; the 12 MP photo is the same one enlarged; detector auto, then hog and cnn alone)\n";
+  // The default landmark fit (mirrored, on a chip) and one plain fit in the box.
+  DetectionOptions one_fit;
+  one_fit.mirror_landmarks = false;
+  one_fit.landmark_box_pixels = 0;
+  const char* one_fit_note = " (one landmark fit, not mirrored)";
   bench_one(detector, photo, crop_size, repeats, out);
+  bench_one(detector, photo, crop_size, repeats, out, one_fit, one_fit_note);
   const int width = static_cast<int>(std::lround(std::sqrt(12e6 * photo.width / photo.height)));
-  bench_one(detector, resize_to_width(photo, width), crop_size, repeats, out);
+  const RgbImage large = resize_to_width(photo, width);
+  bench_one(detector, large, crop_size, repeats, out);
+  bench_one(detector, large, crop_size, repeats, out, one_fit, one_fit_note);
   // Each detector alone on the photo (auto above: HOG, as it finds the face).
   for (DetectorChoice choice : {DetectorChoice::hog, DetectorChoice::cnn}) {
     DetectionOptions options;

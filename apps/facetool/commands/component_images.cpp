@@ -81,9 +81,14 @@ bool is_float_image_file(const std::string& path) {
   return extension == ".exr" || extension == ".hdr" || extension == ".pfm";
 }
 
-std::vector<float> read_planar_crop(const std::string& path, int size) {
-  const RgbImage image = read_rgb_image(path, !is_float_image_file(path));
+RgbImage read_crop_image(const std::string& path) {
+  RgbImage image = read_rgb_image(path, !is_float_image_file(path));
   for (const float v : image.pixels) check(std::isfinite(v), "image '", path, "' holds a NaN or infinite value");
+  return image;
+}
+
+std::vector<float> read_planar_crop(const std::string& path, int size) {
+  const RgbImage image = read_crop_image(path);
   return resize_planar(planar_from_rgb(image), 3, image.width, image.height, size, size);
 }
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "libs/io/image_io.h"
+
 namespace facetool {
 
 // One component as planar float channels (rows top to bottom), as the renderer's tensors want.
@@ -23,6 +25,9 @@ struct ComponentImage {
 // anything else (PNG, ...) is an encoded 8/16-bit image whose values OpenImageIO scales to [0, 1].
 bool is_float_image_file(const std::string& path);
 
+// A face crop file as linear RGB: 8/16-bit files decoded from sRGB, float files as they are; a
+// NaN or infinite pixel is a facetool::Error naming the file.
+RgbImage read_crop_image(const std::string& path);
 // A face crop as planar linear RGB ([3][size*size]) at the network's size: 8/16-bit files are
 // decoded from sRGB, float files taken as linear, then resized; a NaN or infinite pixel is a
 // facetool::Error naming the file.

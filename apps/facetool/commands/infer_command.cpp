@@ -8,6 +8,7 @@
 #include "apps/facetool/commands/output_option.h"
 #include "apps/facetool/commands/component_images.h"
 #include "libs/photo/decomposition_files.h"
+#include "apps/facetool/infer/aligned_input.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/infer/photo_options.h"
 #include "apps/facetool/fit/fit_options.h"
@@ -41,7 +42,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png, with --shard i/n <output>/contact_sheet-<i>-of-<n>.png); photos get one each in their folder")
       ("no-contact-sheet", "do not write a contact sheet")
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
-      ("aligned", "inputs are ready face crops (resized to the network's input): no detection or alignment")
+      ("aligned", "inputs are face crops, one face each: aligned by their landmarks when a face is found in the (padded) crop, otherwise stretched to the network's input (reported)")
+      ("stretch", "with --aligned: stretch every crop to the network's input as it is, without looking for its landmarks (crops already in the network's framing, e.g. synth samples)")
       ("with-fit", "also fit the ICT-FaceKit model to every face and write `facetool fit`'s files in <name>/fit/ (docs/fit.md)")
       ("face-model", po::value<std::string>()->value_name("DIR"), "--with-fit: the ICT-FaceKit FaceXModel folder");
   add_network_options(options);
@@ -65,8 +67,10 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           "face_<k>/ folder per face with the crop-level files below. A photo without a\nface "
           "is reported and skipped; the exit status is 1 if any photo failed (docs/photos.md).\n"
           "The landmark model (dlib, iBUG 300-W training data) is for research use only: no "
-          "commercial use.\n\nWith --aligned the inputs are face crops (resized to the "
-          "network's input). Per image it writes\n<output>/<name>/: input.png, reconstruction.png, "
+          "commercial use.\n\nWith --aligned the inputs are face crops, one face each: the best "
+          "face found in the crop (padded\nas a photo is) is aligned by its landmarks like a "
+          "photo's face; a crop without one is stretched\nto the network's input as it is, and "
+          "said so (--stretch: every crop). Per image it writes\n<output>/<name>/: input.png, reconstruction.png, "
           "albedo.png/.exr, shading.png/.exr,\nnormal.png/.exr (PNG: (n+1)/2), visibility.png "
           "(ambient term)/.exr (9 channels), light.json, light.png.\nThe contact sheet shows per row: input, "
           "reconstruction, albedo, shading, normal, visibility.\n8-bit inputs are taken as sRGB "
@@ -98,6 +102,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   if (batch < 1) throw UsageError("infer: --batch must be at least 1");
   const bool aligned = values.count("aligned") > 0;
   if (!aligned && values.count("raw-output")) throw UsageError("infer: --raw-output needs --aligned");
+  if (!aligned && values.count("stretch")) throw UsageError("infer: --stretch needs --aligned");
   std::vector<std::string> files =
       aligned ? values["images"].as<std::vector<std::string>>()
               : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
@@ -159,14 +164,22 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     return failed > 0 ? 1 : 0;
   }
 
+  // --aligned: the landmarks of each crop place it in the network's framing (--stretch: none).
+  const std::unique_ptr<FaceDetector> detector =
+      values.count("stretch") ? nullptr : make_face_detector(photo_options);
+  std::vector<std::string> stretched;  // crops without a face found, in input order
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");
   decompose_in_batches(
       decomposer, backend, files.size(), batch,
       [&](size_t k, std::vector<float>& inputs) {
-        const std::vector<float> crop = read_planar_crop(files[k], size);
-        inputs.insert(inputs.end(), crop.begin(), crop.end());
+        const AlignedInput input = read_aligned_input(files[k], size, detector.get(), photo_options);
+        if (detector && !input.by_landmarks) {
+          std::cerr << "\n'" << files[k] << "': " << input.reason << "; stretched to the network's input as it is\n";
+          stretched.push_back(files[k]);
+        }
+        inputs.insert(inputs.end(), input.rgb.begin(), input.rgb.end());
       },
       [&](size_t first, const Decomposition& d, const std::vector<float>& inputs) {
         for (int i = 0; i < d.count; ++i) {
@@ -209,6 +222,12 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     raw.add("light", {n, 27}, std::move(raw_light));
     raw.write_file(values["raw-output"].as<std::string>());
   }
+  if (detector)
+    std::cerr << "aligned " << files.size() - stretched.size() << " of " << files.size()
+              << " crops by their landmarks; " << stretched.size()
+              << " stretched to the network's input (no face found)\n";
+  else
+    std::cerr << "stretched " << files.size() << " crops to the network's input (--stretch)\n";
   std::cerr << "wrote " << files.size() << (files.size() == 1 ? " image's" : " images'")
             << " components to " << out_dir << "\n";
   return 0;
