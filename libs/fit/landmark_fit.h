@@ -29,7 +29,7 @@ struct FitSettings {
   FitCamera camera = FitCamera::kPerspective;
   double fov_deg = 22.5;           // perspective: horizontal field of view over the photo width
   JawHandling jaw = JawHandling::kDownWeighted;
-  double jaw_weight = 0.5;         // kDownWeighted: weight of the jaw landmarks (others 1)
+  double jaw_weight = 0.25;        // kDownWeighted: weight of the jaw landmarks (others 1)
   int contour_rounds = 3;          // kContour: solves, each after re-choosing the contour vertices
   // Landmark residuals are in units of the landmarks' RMS spread about their centroid (S); the
   // priors' weights are relative to them.

@@ -593,6 +593,7 @@ fit/fov-0|--fov|fit --face-model {FX}/folder --fov 0 {FX}/face.png -o {OUT}/fit
 fit/fov-nan|--fov|fit --face-model {FX}/folder --fov nan {FX}/face.png -o {OUT}/fit
 fit/directions-0|--directions|fit --face-model {FX}/folder --directions 0 {FX}/face.png -o {OUT}/fit
 fit/identity-prior-negative|--identity-prior|fit --face-model {FX}/folder --identity-prior=-1 {FX}/face.png -o {OUT}/fit
+fit/jaw-weight-negative|--jaw-weight|fit --face-model {FX}/folder --jaw-weight=-1 {FX}/face.png -o {OUT}/fit
 fit/shard-out-of-range|--shard|fit --face-model {FX}/folder --shard 3/2 {FX}/face.png -o {OUT}/fit
 fit/output-is-a-file|out.png|fit --face-model {FX}/folder {FX}/face.png -o {OUT}/out.png
 fit/image-missing|does_not_exist.png|fit --face-model {FX}/folder {FX}/does_not_exist.png -o {OUT}/fit

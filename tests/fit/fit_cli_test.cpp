@@ -138,6 +138,8 @@ TEST_F(FitCliTest, ShardsSplitTheInputsAndUsageErrorsExitTwo) {
   EXPECT_EQ(run("fit " + at("photos") + " -o " + at("out2"), at("log")), 2);
   EXPECT_NE(read_text(at("log")).find("--face-model"), std::string::npos);
   EXPECT_EQ(run(fit_args() + "--camera fisheye " + at("photos") + " -o " + at("out2"), at("log")), 2);
+  EXPECT_EQ(run(fit_args() + "--jaw-weight -1 " + at("photos") + " -o " + at("out2"), at("log")), 2);
+  EXPECT_NE(read_text(at("log")).find("--jaw-weight"), std::string::npos) << read_text(at("log"));
   EXPECT_EQ(run("fit --face-model " + at("nowhere") + " " + at("photos") + " -o " + at("out2"), at("log")), 1);
   EXPECT_NE(read_text(at("log")).find("ICT-FaceKit"), std::string::npos) << read_text(at("log"));
 }

@@ -83,7 +83,7 @@ double normal_map_difference_deg(const FitRendering& a, const FitRendering& b) {
   return n ? sum / n : 180.0;
 }
 
-TEST_F(FitSynthetic, RecoversPoseWithinTwoDegreesAndNormalsFromNoisyLandmarks) {
+TEST_F(FitSynthetic, RecoversPoseAndNormalsFromNoisyLandmarks) {
   Random poses(5);
   double worst_pose = 0, mean_normal = 0;
   const int count = 6;
@@ -98,7 +98,7 @@ TEST_F(FitSynthetic, RecoversPoseWithinTwoDegreesAndNormalsFromNoisyLandmarks) {
                 "of the mask, landmark RMS %.2f px, fit %.2f ms (%d iterations)\n",
                 k, pose.yaw_deg, pose.pitch_deg, pose.roll_deg, o.pose_error_deg, o.normal_error_deg,
                 100 * o.coverage, o.fit.rms_px, o.fit_ms, o.fit.iterations);
-    EXPECT_LT(o.pose_error_deg, 2.0);
+    EXPECT_LT(o.pose_error_deg, FIT_POSE_BOUND_DEG);
     EXPECT_GT(o.coverage, 0.95);
     worst_pose = std::max(worst_pose, o.pose_error_deg);
     mean_normal += o.normal_error_deg / count;
@@ -258,17 +258,19 @@ TEST_F(FitSynthetic, Measure) {
   if (with_dlib) detector = std::make_unique<FaceDetector>();
   const int per_bin = std::getenv("FACETOOL_FIT_MEASURE_COUNT") ? std::atoi(std::getenv("FACETOOL_FIT_MEASURE_COUNT")) : 8;
   const double bins[5] = {0, 10, 20, 30, 40};
-  // The last two: the perspective camera with a field of view far from the truth's 20-25 degrees.
-  struct Config { FitCamera camera; JawHandling jaw; double fov; };
-  const Config configs[6] = {{FitCamera::kScaledOrthographic, JawHandling::kContour, 22.5},
-                             {FitCamera::kScaledOrthographic, JawHandling::kDownWeighted, 22.5},
-                             {FitCamera::kPerspective, JawHandling::kContour, 22.5},
-                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 22.5},
-                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 10},
-                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 45}};
+  // Rows 5-6: the perspective camera with a field of view far from the truth's 20-25 degrees;
+  // row 7: the jaw landmarks' weight halved again.
+  struct Config { FitCamera camera; JawHandling jaw; double fov; double jaw_weight; };
+  const Config configs[7] = {{FitCamera::kScaledOrthographic, JawHandling::kContour, 22.5, 0.5},
+                             {FitCamera::kScaledOrthographic, JawHandling::kDownWeighted, 22.5, 0.5},
+                             {FitCamera::kPerspective, JawHandling::kContour, 22.5, 0.5},
+                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 22.5, 0.5},
+                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 10, 0.5},
+                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 45, 0.5},
+                             {FitCamera::kPerspective, JawHandling::kDownWeighted, 22.5, 0.25}};
   for (int source = 0; source < (with_dlib ? 2 : 1); ++source) {
     std::printf("\nlandmarks: %s\n", source == 0 ? "projected landmark vertices + 1 px noise" : "dlib on the shaded render");
-    std::printf("%-31s", "camera / fov / jaw");
+    std::printf("%-36s", "camera / fov / jaw / jaw weight");
     for (int b = 0; b < 4; ++b) std::printf(" |yaw| %2.0f-%2.0f: normal pose cover", bins[b], bins[b + 1]);
     std::printf("  fit ms\n");
     for (const Config& config : configs) {
@@ -276,7 +278,9 @@ TEST_F(FitSynthetic, Measure) {
       settings.camera = config.camera;
       settings.jaw = config.jaw;
       settings.fov_deg = config.fov;
-      std::printf("%-12s %4.1f %-13s", fit_camera_name(config.camera), config.fov, jaw_handling_name(config.jaw));
+      settings.jaw_weight = config.jaw_weight;
+      std::printf("%-12s %4.1f %-13s %4.2f", fit_camera_name(config.camera), config.fov, jaw_handling_name(config.jaw),
+                  config.jaw_weight);
       double ms = 0;
       int fits = 0;
       for (int b = 0; b < 4; ++b) {

@@ -13,6 +13,8 @@ void add_fit_options(po::options_description& options) {
       ("fov", po::value<double>()->default_value(d.fov_deg), "--camera perspective: horizontal field of view over the photo's width, degrees")
       ("jaw", po::value<std::string>()->default_value("down-weighted")->value_name("down-weighted|contour"),
        "jaw-line landmarks: re-chosen silhouette vertices (contour), or fixed vertices with a lower weight")
+      ("jaw-weight", po::value<double>()->default_value(d.jaw_weight),
+       "--jaw down-weighted: weight of the 17 jaw-line landmarks (the others 1)")
       ("identity-prior", po::value<double>()->default_value(d.identity_prior), "weight of the N(0, 1) prior on identity weights")
       ("expression-prior", po::value<double>()->default_value(d.expression_prior), "weight of the sparsity prior on expression weights")
       ("no-expressions", "fit identity and pose only (expression weights 0)")
@@ -21,7 +23,7 @@ void add_fit_options(po::options_description& options) {
 }
 
 std::vector<OptionRange> fit_option_ranges() {
-  return {{"fov", 1, 120}, {"identity-prior", 0, 1e6}, {"expression-prior", 0, 1e6}, {"directions", 1, 100000}};
+  return {{"fov", 1, 120}, {"jaw-weight", 0, 10}, {"identity-prior", 0, 1e6}, {"expression-prior", 0, 1e6}, {"directions", 1, 100000}};
 }
 
 PhotoFitOptions fit_options_from(const po::variables_map& values) {
@@ -35,6 +37,7 @@ PhotoFitOptions fit_options_from(const po::variables_map& values) {
   else if (jaw == "down-weighted") o.fit.jaw = JawHandling::kDownWeighted;
   else throw UsageError("--jaw must be contour or down-weighted; got '" + jaw + "'");
   o.fit.fov_deg = values["fov"].as<double>();
+  o.fit.jaw_weight = values["jaw-weight"].as<double>();
   o.fit.identity_prior = values["identity-prior"].as<double>();
   o.fit.expression_prior = values["expression-prior"].as<double>();
   o.fit.fit_expressions = !values.count("no-expressions");
