@@ -66,9 +66,7 @@ SynthRunReport run_synth(const SampleGenerator& generator, const SynthRunOptions
   check(fs::is_directory(options.output_dir), "cannot create output folder '",
         options.output_dir, "': ", error.message());
   // One run per folder; the shards of one sharded run write disjoint samples and share it.
-  const FolderLock lock(options.output_dir, "--out",
-                        options.shard_count > 1 ? FolderLock::Mode::kShared
-                                                : FolderLock::Mode::kExclusive);
+  const FolderLock lock(options.output_dir, "--out", options.shard_index, options.shard_count);
   remove_stale_temporary_files(options.output_dir);
 
   std::vector<int64_t> indices;

@@ -377,6 +377,28 @@ check_two_synths() {
   ! ls "$dir/out" | grep -q '\.tmp-' || echo "SIGTERM left temporaries: $(ls "$dir/out" | grep '\.tmp-')"
 }
 
+# The shards of one run share a folder, but a second process of the same shard, or a shard of
+# another splitting, is refused while the first runs.
+check_same_shard() {
+  local dir=$WORK/same_shard first rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  local synth=(synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" -o "$dir/out" --size 32 --threads 1)
+  "$FACETOOL" "${synth[@]}" --count 1000000 --shard 0/2 > /dev/null 2>&1 &
+  first=$!
+  wait_for_file "$dir/out/sample_00000002.exr" || { kill "$first"; echo "the first shard wrote nothing (hang)"; return; }
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 1000000 --shard 0/2 2>&1)
+  rc=$?
+  [ "$rc" -ne 0 ] && [ "$rc" -lt 124 ] || echo "a second shard 0/2 exited $rc: $message"
+  grep -q "in use by another facetool run of shard 0/2" <<< "$message" || echo "unclear refusal of shard 0/2: $message"
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 1000000 --shard 1/3 2>&1)
+  grep -q "another number of shards" <<< "$message" || echo "shard 1/3 beside 0/2 was not refused: $message"
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 4 --shard 1/2 2>&1)
+  rc=$?
+  [ "$rc" -eq 0 ] || echo "shard 1/2 beside shard 0/2 was refused (exit $rc): $message"
+  kill -TERM "$first"
+  wait "$first"
+}
+
 # SIGHUP stops training like SIGTERM: exit 128+1, a checkpoint, no temporary left.
 check_train_sighup() {
   local dir=$WORK/sighup first rc
@@ -455,6 +477,7 @@ limit_cases() {
   fi
   run_check concurrency/two-trains-one-folder check_two_trains
   run_check concurrency/two-synths-one-folder check_two_synths
+  run_check concurrency/same-shard-one-folder check_same_shard
   run_check signals/train-sighup check_train_sighup
   run_check names/infer-unique-names check_unique_names
   run_check prepare-real/output-inside-input check_prepare_real_inside_input
