@@ -118,6 +118,7 @@ JSON
   sed 's/"learning_rate": 1e-3/"learning_rate": 1e-3, "epsilon": 0/' "$FX/cfg.json" > "$FX/eps0.json"
   sed 's/"albedo": 1,/"albedo": 1e308,/' "$FX/cfg.json" > "$FX/bigweight.json"
   sed 's/"directory": "data"/"directory": "dangling_data"/' "$FX/cfg.json" > "$FX/dangling_cfg.json"
+  sed 's/"width": 4/"width": 256/; s/"batch": 2/"batch": 8/' "$FX/cfg.json" > "$FX/wide_cfg.json"
   "$FACETOOL" train --config "$FX/cfg.json" --out "$FX/run" --steps 10 > /dev/null 2>&1 || return 1
   # Damaged step counts of the same length as "10", so that the header stays valid.
   cp -r "$FX/run" "$FX/negative" &&
@@ -469,10 +470,20 @@ limit_cases() {
     base=$(smallest_working_memory_limit synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" \
       -o "$WORK/probe_synth" --size 32 --count 1)
     if [ -n "$base" ]; then
-      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/synth-memory "out of memory" \
+      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/synth-memory \
+        "out of memory while generating a 4096x4096 synthetic sample (needs ~4.7 GB)" \
         "synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/bigsynth --size 4096 --count 1"
     else
       skip_case limits/synth-memory "no address-space limit lets facetool start here"
+    fi
+    # Training at width 256 (about 15 M parameters, 0.5 GB a step) with 200 MB more than a
+    # width-4 run needs: the message names what was being allocated and about how much.
+    base=$(smallest_working_memory_limit train --config "$FX/cfg.json" --out "$WORK/probe_train" --steps 1 --overwrite)
+    if [ -n "$base" ]; then
+      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/train-memory "(needs ~" \
+        "train --config {FX}/wide_cfg.json --out {OUT}/newrun --steps 1"
+    else
+      skip_case limits/train-memory "no address-space limit lets facetool start here"
     fi
   fi
   run_check concurrency/two-trains-one-folder check_two_trains
