@@ -119,6 +119,13 @@ int64_t Trainer::parameter_count() const {
 }
 
 void Trainer::set_communicator(Communicator& comm) {
+  // A rank without rows would run its network on an empty batch while the others wait in the
+  // batch-norm sums: every rank refuses alike, before any step.
+  for (const DataSource& s : config_.sources)
+    check(s.batch >= comm.size(), "source '", s.name, "' of '", config_.path, "' has batch ",
+          s.batch, ", fewer rows than the ", comm.size(), " ranks of this job (mpirun -np ",
+          comm.size(), "): every rank takes rows of each global batch (docs/distributed.md); "
+          "set its batch to at least ", comm.size(), " or run fewer ranks");
   comm_ = &comm;
   synced_batch_norm_ = comm.size() > 1;
   if (synced_batch_norm_)

@@ -428,6 +428,23 @@ check_train_file_size() {
   ! ls "$dir/run" | grep -q '\.tmp-' || echo "temporaries left: $(ls "$dir/run" | grep '\.tmp-')"
 }
 
+# Class 9 (data-parallel training): under mpirun -np 2 a global batch of 1 leaves a rank without
+# rows; it hung in the batch-norm sums. Every rank now refuses before the first step.
+check_batch_smaller_than_ranks() {
+  local mpirun dir=$WORK/ranks rc
+  mpirun=$(command -v mpirun || command -v mpiexec) || return 0
+  rm -rf "$dir" && mkdir -p "$dir"
+  sed 's/"batch": 2/"batch": 1/' "$FX/cfg.json" > "$FX/batch1_cfg.json"
+  message=$(timeout -k 5 120 "$mpirun" --allow-run-as-root --oversubscribe -np 2 "$FACETOOL" train \
+    --config "$FX/batch1_cfg.json" --out "$dir/run" --steps 2 2>&1 < /dev/null)
+  rc=$?
+  if grep -q "without MPI" <<< "$message"; then return 0; fi  # facetool built without MPI
+  [ "$rc" -ne 124 ] && [ "$rc" -ne 137 ] || { echo "mpirun -np 2 with batch 1 did not end (hang)"; return; }
+  [ "$rc" -ne 0 ] || echo "mpirun -np 2 with batch 1 exited 0"
+  grep -q "fewer rows than the 2 ranks" <<< "$message" || echo "unclear message: $message"
+  [ ! -e "$dir/run/checkpoint.safetensors" ] || echo "a checkpoint was written"
+}
+
 # Inputs sharing a name, in any order, each get their own output folder.
 check_unique_names() {
   local dir=$WORK/names
@@ -491,6 +508,7 @@ limit_cases() {
   run_check concurrency/same-shard-one-folder check_same_shard
   run_check signals/train-sighup check_train_sighup
   run_check names/infer-unique-names check_unique_names
+  run_check distributed/train-batch-smaller-than-ranks check_batch_smaller_than_ranks
   run_check prepare-real/output-inside-input check_prepare_real_inside_input
 }
 
