@@ -15,22 +15,27 @@ void for_each_plane(const Shape& s, int64_t c, const float* base, Fn fn) {
   for (int64_t n = 0; n < s.n(); ++n) fn(base + (n * s.c() + c) * plane, plane);
 }
 
-// sum(term(v[i])) over a plane with 16 independent float lanes (so it vectorises), in double.
+// sum(term(v[i])) over a plane in double, in 8 independent lanes so it vectorises. `term` returns
+// a double computed from float inputs as the host batch norm does (synced_batch_norm.cpp), so
+// that both give the same statistics after rounding to float.
 template <typename Term>
 double lane_sum(const float* v, int64_t m, Term term) {
-  constexpr int kLanes = 16;
-  float lanes[kLanes] = {};
+  constexpr int kLanes = 8;
+  double lanes[kLanes] = {};
   int64_t i = 0;
   for (; i + kLanes <= m; i += kLanes)
     for (int l = 0; l < kLanes; ++l) lanes[l] += term(v[i + l]);
   double total = 0.0;
   for (; i < m; ++i) total += term(v[i]);
-  for (float lane : lanes) total += lane;
+  for (double lane : lanes) total += lane;
   return total;
 }
 
-// out = in * a + b, then the leaky ReLU of `slope` when `leaky` (in and out never overlap).
-FACETOOL_VECTOR_CLONES
+// out = in * a + b, then the leaky ReLU of `slope` when `leaky` (in and out never overlap). The
+// product and the sum are rounded separately (no fused multiply-add, whatever the clone), as in
+// the host batch norm: a result one rounding apart can sit on the other side of the leaky ReLU's
+// kink, and one such pixel changes the step's gradient by 1e-3 (docs/distributed.md).
+FACETOOL_VECTOR_CLONES FACETOOL_NO_FP_CONTRACT
 void affine_plane(const float* __restrict in, int64_t m, float a, float b, bool leaky,
                   float slope, float* __restrict out) {
   if (leaky) {
@@ -65,16 +70,20 @@ void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
     for (int64_t c = begin; c < end; ++c) {
       float mean, invstd;
       if (p.training) {
-        // Two passes in double: the mean, then the biased variance around it.
+        // Two passes in double: the mean, then the biased variance around its float value
+        // (each deviation rounded to float, squared exactly in double).
         double total = 0.0;
         for_each_plane(s, c, px, [&](const float* v, int64_t m) {
-          total += lane_sum(v, m, [](float a) { return a; });
+          total += lane_sum(v, m, [](float a) { return static_cast<double>(a); });
         });
         const double batch_mean = total / static_cast<double>(count);
         double squares = 0.0;
         const float centre = static_cast<float>(batch_mean);
         for_each_plane(s, c, px, [&](const float* v, int64_t m) {
-          squares += lane_sum(v, m, [centre](float a) { return (a - centre) * (a - centre); });
+          squares += lane_sum(v, m, [centre](float a) {
+            const double d = a - centre;
+            return d * d;
+          });
         });
         const double biased_var = squares / static_cast<double>(count);
         const double unbiased_var = squares / static_cast<double>(count - 1);
@@ -99,33 +108,37 @@ void normalize(const Tensor& x, const Tensor& gamma, const Tensor& beta,
 }
 
 // One plane's sum(g) and sum(g * xhat), g = dy, times the leaky ReLU's derivative read from the
-// activation's output `a` (nullptr: none), in 16 float lanes so the loops vectorise.
+// activation's output `a` (nullptr: none), in 8 double lanes so the loops vectorise. xhat is
+// rounded to float and the product taken exactly in double, as in the host batch norm.
 FACETOOL_VECTOR_CLONES
 void plane_sums(const float* __restrict in, const float* __restrict dy,
                 const float* __restrict a, int64_t m, float mean, float invstd, float slope,
                 double& sum_dy, double& sum_dy_xhat) {
-  constexpr int kLanes = 16;
-  float lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
+  constexpr int kLanes = 8;
+  double lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
   const int64_t whole = m / kLanes * kLanes;
   if (a) {
     for (int64_t i = 0; i < whole; i += kLanes)
       for (int l = 0; l < kLanes; ++l) {
         const float g = a[i + l] > 0.0f ? dy[i + l] : slope * dy[i + l];
+        const float xhat = (in[i + l] - mean) * invstd;
         lanes_dy[l] += g;
-        lanes_dy_xhat[l] += g * ((in[i + l] - mean) * invstd);
+        lanes_dy_xhat[l] += static_cast<double>(g) * xhat;
       }
   } else {
     for (int64_t i = 0; i < whole; i += kLanes)
       for (int l = 0; l < kLanes; ++l) {
+        const float xhat = (in[i + l] - mean) * invstd;
         lanes_dy[l] += dy[i + l];
-        lanes_dy_xhat[l] += dy[i + l] * ((in[i + l] - mean) * invstd);
+        lanes_dy_xhat[l] += static_cast<double>(dy[i + l]) * xhat;
       }
   }
   double total_dy = 0.0, total_dy_xhat = 0.0;
   for (int64_t i = whole; i < m; ++i) {
     const float g = !a || a[i] > 0.0f ? dy[i] : slope * dy[i];
+    const float xhat = (in[i] - mean) * invstd;
     total_dy += g;
-    total_dy_xhat += g * ((in[i] - mean) * invstd);
+    total_dy_xhat += static_cast<double>(g) * xhat;
   }
   for (int l = 0; l < kLanes; ++l) {
     total_dy += lanes_dy[l];

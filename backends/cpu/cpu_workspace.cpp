@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 
 namespace facetool::cpu {
 namespace {
@@ -21,8 +22,7 @@ float* thread_workspace(size_t floats) {
   if (floats > capacity) {
     const size_t bytes = (floats * sizeof(float) + 63) / 64 * 64;
     block.reset(static_cast<float*>(std::aligned_alloc(64, bytes)));
-    check(block != nullptr, "cpu backend: out of memory allocating a ", bytes,
-          "-byte workspace");
+    if (block == nullptr) throw out_of_memory("allocating the cpu backend's workspace", bytes);
     capacity = bytes / sizeof(float);
   }
   return block.get();

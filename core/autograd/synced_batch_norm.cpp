@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/util/error.h"
+#include "core/util/vector_clones.h"
 
 namespace facetool::ag {
 namespace {
@@ -23,6 +24,26 @@ void write_target(const GradTarget& t, std::vector<float> values) {
   t.tensor->copy_from_host(values);
 }
 
+// y = x * a + shift per channel, each product and sum rounded on its own like the cpu backend's
+// batch norm (FACETOOL_NO_FP_CONTRACT on both), so that one process gives the same floats
+// either way: a value one rounding apart can cross the leaky ReLU's kink that follows.
+FACETOOL_NO_FP_CONTRACT
+std::vector<float> normalized(const std::vector<float>& x, const Shape& s,
+                              const std::vector<float>& gamma, const std::vector<float>& beta,
+                              const std::vector<float>& mean, const std::vector<float>& invstd) {
+  const int64_t n = s.n(), channels = s.c(), plane = s.h() * s.w();
+  std::vector<float> y(x.size());
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t c = 0; c < channels; ++c) {
+      const float a = gamma[c] * invstd[c], shift = beta[c] - mean[c] * a;
+      for (int64_t k = 0; k < plane; ++k) {
+        const int64_t at = (i * channels + c) * plane + k;
+        y[at] = x[at] * a + shift;
+      }
+    }
+  return y;
+}
+
 }  // namespace
 
 void set_batch_norm_statistics_sum(StatisticsSum sum) { installed_sum() = std::move(sum); }
@@ -36,7 +57,9 @@ Variable synced_batch_norm(const Variable& x, const Variable& gamma, const Varia
   const int64_t n = s.n(), channels = s.c(), plane = s.h() * s.w();
   const std::vector<float> xh = x.value().to_host(), g = gamma.value().to_host(),
                            b = beta.value().to_host();
-  // Pass 1: global count and mean; pass 2: squared deviations around the global mean.
+  // Pass 1: global count and mean; pass 2: squared deviations around the global mean (rounded
+  // to float), each squared exactly in double: the cpu backend's arithmetic (cpu_batchnorm.cpp),
+  // so that both round to the same float statistics.
   std::vector<double> totals(channels + 1, 0.0);
   for (int64_t i = 0; i < n; ++i)
     for (int64_t c = 0; c < channels; ++c)
@@ -65,16 +88,7 @@ Variable synced_batch_norm(const Variable& x, const Variable& gamma, const Varia
   }
   running_mean.copy_from_host(rm);
   running_var.copy_from_host(rv);
-  std::vector<float> y(xh.size());
-  for (int64_t i = 0; i < n; ++i)
-    for (int64_t c = 0; c < channels; ++c) {
-      const float a = g[c] * invstd[c], shift = b[c] - mean[c] * a;
-      for (int64_t k = 0; k < plane; ++k) {
-        const int64_t at = (i * channels + c) * plane + k;
-        y[at] = xh[at] * a + shift;
-      }
-    }
-  Tensor yt = Tensor::from_host(x.value().backend(), s, y);
+  Tensor yt = Tensor::from_host(x.value().backend(), s, normalized(xh, s, g, b, mean, invstd));
   return make_result(
       yt, "synced_batch_norm", {x, gamma, beta},
       [xh, g, mean, invstd, s, sum](const Tensor& grad, const std::vector<GradTarget>& t) {
@@ -103,10 +117,10 @@ Variable synced_batch_norm(const Variable& x, const Variable& gamma, const Varia
               const float scale = g[c] * invstd[c];
               const float mean_dy = static_cast<float>(sums[c] / count);
               const float mean_dy_xhat = static_cast<float>(sums[channels + c] / count);
+              const float k_c = invstd[c] * mean_dy_xhat;  // grouped as on the cpu backend
               for (int64_t k = 0; k < plane; ++k) {
                 const int64_t at = (i * channels + c) * plane + k;
-                const float xhat = (xh[at] - mean[c]) * invstd[c];
-                dx[at] = scale * (dy[at] - mean_dy - xhat * mean_dy_xhat);
+                dx[at] = scale * (dy[at] - mean_dy - (xh[at] - mean[c]) * k_c);
               }
             }
           write_target(t[0], std::move(dx));

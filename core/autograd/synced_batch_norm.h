@@ -16,8 +16,9 @@ using StatisticsSum = std::function<void(std::vector<double>&)>;
 // the global batch (every rank's rows): the forward pass sums per-channel counts, sums and
 // squared deviations over the ranks; the backward pass sums sum(dy) and sum(dy * xhat) the same
 // way, so K ranks compute what one process computes on the whole batch. dgamma and dbeta stay
-// this rank's partial sums (the gradient allreduce adds them). Computed on the host in double
-// precision, whatever the backend. An empty function restores local statistics.
+// this rank's partial sums (the gradient allreduce adds them). Computed on the host, whatever the
+// backend, with the cpu backend's arithmetic (double sums, no fused multiply-add), so that one
+// process gives the cpu backend's floats exactly. An empty function restores local statistics.
 void set_batch_norm_statistics_sum(StatisticsSum sum);
 const StatisticsSum& batch_norm_statistics_sum();
 

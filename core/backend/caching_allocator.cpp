@@ -2,6 +2,7 @@
 #include "core/backend/caching_allocator.h"
 
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 
 namespace facetool {
 
@@ -38,7 +39,9 @@ void* CachingAllocator::acquire(size_t bytes, size_t* rounded_bytes) {
     trim();
     block = allocate_(size);
   }
-  check(block != nullptr, "out of memory allocating ", size, " bytes");
+  // An OutOfMemory, so that the step that asked for the tensor can name itself
+  // (naming_out_of_memory).
+  if (block == nullptr) throw out_of_memory("allocating a tensor", size);
   std::lock_guard<std::mutex> lock(mutex_);
   live_bytes_ += size;
   return block;

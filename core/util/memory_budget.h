@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <new>
 #include <string>
 
 #include "core/util/error.h"
@@ -29,5 +30,20 @@ void check_memory_budget(uint64_t bytes, const std::string& what);
 
 // The OutOfMemory error for a failed allocation of about `bytes` (0: unknown) while `what`.
 OutOfMemory out_of_memory(const std::string& what, uint64_t bytes);
+
+// Runs `fn` and returns what it returns; an allocation failing inside (std::bad_alloc, or the
+// OutOfMemory of a lower level such as a backend's allocator, which knows only its own block)
+// comes out as out_of_memory(what, bytes): the task that needed the memory and about how much
+// all of it takes (`bytes`, the caller's estimate).
+template <typename Fn>
+decltype(auto) naming_out_of_memory(const std::string& what, uint64_t bytes, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    throw out_of_memory(what, bytes);
+  } catch (const OutOfMemory&) {
+    throw out_of_memory(what, bytes);
+  }
+}
 
 }  // namespace facetool

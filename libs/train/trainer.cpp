@@ -92,7 +92,40 @@ constexpr int64_t kBucketFloats = int64_t{1} << 20;
 
 }  // namespace
 
+uint64_t Trainer::step_memory_estimate(const TrainingConfig& config, int64_t parameters) {
+  uint64_t images = 0;
+  for (const DataSource& s : config.sources) images += static_cast<uint64_t>(s.batch);
+  const uint64_t pixels = static_cast<uint64_t>(config.input_size) * config.input_size;
+  // Weights, gradients and the two Adam moments: 4 floats per parameter.
+  return images * pixels * static_cast<uint64_t>(config.width) * 128 +
+         static_cast<uint64_t>(parameters) * 4 * sizeof(float);
+}
+
+std::string Trainer::step_description(const TrainingConfig& config) {
+  int64_t images = 0;
+  for (const DataSource& s : config.sources) images += s.batch;
+  return "batch " + std::to_string(images) + " of " + std::to_string(config.input_size) + "x" +
+         std::to_string(config.input_size) + " images at width " + std::to_string(config.width);
+}
+
+int64_t Trainer::parameter_estimate(const TrainingConfig& config) {
+  return int64_t{225} * config.width * config.width;
+}
+
+int64_t Trainer::parameter_count() const {
+  int64_t count = 0;
+  for (const auto& entry : network_->parameters()) count += entry.second.value().numel();
+  return count;
+}
+
 void Trainer::set_communicator(Communicator& comm) {
+  // A rank without rows would run its network on an empty batch while the others wait in the
+  // batch-norm sums: every rank refuses alike, before any step.
+  for (const DataSource& s : config_.sources)
+    check(s.batch >= comm.size(), "source '", s.name, "' of '", config_.path, "' has batch ",
+          s.batch, ", fewer rows than the ", comm.size(), " ranks of this job (mpirun -np ",
+          comm.size(), "): every rank takes rows of each global batch (docs/distributed.md); "
+          "set its batch to at least ", comm.size(), " or run fewer ranks");
   comm_ = &comm;
   synced_batch_norm_ = comm.size() > 1;
   if (synced_batch_norm_)

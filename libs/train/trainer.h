@@ -69,6 +69,18 @@ class Trainer {
   // Call before the first step; `comm` must outlive the trainer.
   void set_communicator(Communicator& comm);
 
+  // About the memory one step takes (bytes), for "out of memory while ..." messages: the
+  // parameters with their gradients and Adam moments, and per image of every source's batch
+  // about 128 bytes per pixel and width channel (measured on the paper network at width 256,
+  // 32x32: 1.0 GB peak at batch 8, 0.88 GB at batch 4). Rough: the network plugin's own layers
+  // decide. And what one step trains on, e.g. "batch 8 of 32x32 images at width 256".
+  static uint64_t step_memory_estimate(const TrainingConfig& config, int64_t parameters);
+  static std::string step_description(const TrainingConfig& config);
+  // The parameters of a network of `config`'s width, before it is built: 225 x width^2 for the
+  // paper network (3.69 M at width 128).
+  static int64_t parameter_estimate(const TrainingConfig& config);
+  int64_t parameter_count() const;
+
   int64_t steps_done() const { return step_; }
   const TrainingConfig& config() const { return config_; }
   NetworkPlugin& network() { return *network_; }

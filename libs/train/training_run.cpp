@@ -14,6 +14,7 @@
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
+#include "core/util/memory_budget.h"
 
 namespace fs = std::filesystem;
 
@@ -101,9 +102,14 @@ TrainingRun::TrainingRun(Trainer& trainer, const TrainingConfig& config, Communi
 
 void TrainingRun::save_all() {
   if (!writer_) return;
-  trainer_.save(checkpoint_);
-  save_network_weights(trainer_.network(), config_.network, weights_);
-  write_loss_curve(curve_, points_);
+  // The checkpoint holds the weights and both Adam moments, serialised in memory first.
+  naming_out_of_memory("writing the checkpoint of step " + std::to_string(trainer_.steps_done()),
+                       static_cast<uint64_t>(trainer_.parameter_count()) * 6 * sizeof(float),
+                       [&] {
+                         trainer_.save(checkpoint_);
+                         save_network_weights(trainer_.network(), config_.network, weights_);
+                         write_loss_curve(curve_, points_);
+                       });
 }
 
 RunOutcome TrainingRun::save_at_end(RunOutcome outcome) {
@@ -135,8 +141,13 @@ RunOutcome TrainingRun::run(const Events& events) {
   stop_signal_ = 0;
   while (trainer_.steps_done() < config_.steps) {
     StepRecord r;
+    const uint64_t step_bytes =
+        Trainer::step_memory_estimate(config_, trainer_.parameter_count());
     try {
-      r = trainer_.step();
+      r = naming_out_of_memory("running training step " +
+                                   std::to_string(trainer_.steps_done() + 1) + " (" +
+                                   Trainer::step_description(config_) + ")",
+                               step_bytes, [&] { return trainer_.step(); });
     } catch (const TrainingDiverged& e) {
       return diverged(e);
     }
@@ -148,7 +159,10 @@ RunOutcome TrainingRun::run(const Events& events) {
     points_.emplace_back(static_cast<double>(r.step), r.total);
     const bool last = trainer_.steps_done() == config_.steps;
     if (writer_ && (r.step % config_.validation_every == 0 || last)) {
-      const ValidationRecord v = trainer_.validate();
+      const ValidationRecord v = naming_out_of_memory(
+          "validating after step " + std::to_string(r.step) + " (" +
+              Trainer::step_description(config_) + ")",
+          step_bytes, [&] { return trainer_.validate(); });
       if (v.pixels > 0) {
         log << nlohmann::json{{"step", v.step},
                               {"validation", {{"normal_error_mean_deg", v.normal_error_mean_deg},

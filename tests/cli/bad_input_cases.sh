@@ -118,6 +118,7 @@ JSON
   sed 's/"learning_rate": 1e-3/"learning_rate": 1e-3, "epsilon": 0/' "$FX/cfg.json" > "$FX/eps0.json"
   sed 's/"albedo": 1,/"albedo": 1e308,/' "$FX/cfg.json" > "$FX/bigweight.json"
   sed 's/"directory": "data"/"directory": "dangling_data"/' "$FX/cfg.json" > "$FX/dangling_cfg.json"
+  sed 's/"width": 4/"width": 256/; s/"batch": 2/"batch": 8/' "$FX/cfg.json" > "$FX/wide_cfg.json"
   "$FACETOOL" train --config "$FX/cfg.json" --out "$FX/run" --steps 10 > /dev/null 2>&1 || return 1
   # Damaged step counts of the same length as "10", so that the header stays valid.
   cp -r "$FX/run" "$FX/negative" &&
@@ -377,6 +378,28 @@ check_two_synths() {
   ! ls "$dir/out" | grep -q '\.tmp-' || echo "SIGTERM left temporaries: $(ls "$dir/out" | grep '\.tmp-')"
 }
 
+# The shards of one run share a folder, but a second process of the same shard, or a shard of
+# another splitting, is refused while the first runs.
+check_same_shard() {
+  local dir=$WORK/same_shard first rc
+  rm -rf "$dir" && mkdir -p "$dir"
+  local synth=(synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" -o "$dir/out" --size 32 --threads 1)
+  "$FACETOOL" "${synth[@]}" --count 1000000 --shard 0/2 > /dev/null 2>&1 &
+  first=$!
+  wait_for_file "$dir/out/sample_00000002.exr" || { kill "$first"; echo "the first shard wrote nothing (hang)"; return; }
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 1000000 --shard 0/2 2>&1)
+  rc=$?
+  [ "$rc" -ne 0 ] && [ "$rc" -lt 124 ] || echo "a second shard 0/2 exited $rc: $message"
+  grep -q "in use by another facetool run of shard 0/2" <<< "$message" || echo "unclear refusal of shard 0/2: $message"
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 1000000 --shard 1/3 2>&1)
+  grep -q "another number of shards" <<< "$message" || echo "shard 1/3 beside 0/2 was not refused: $message"
+  message=$(timeout -k 5 "$TIME_LIMIT" "$FACETOOL" "${synth[@]}" --count 4 --shard 1/2 2>&1)
+  rc=$?
+  [ "$rc" -eq 0 ] || echo "shard 1/2 beside shard 0/2 was refused (exit $rc): $message"
+  kill -TERM "$first"
+  wait "$first"
+}
+
 # SIGHUP stops training like SIGTERM: exit 128+1, a checkpoint, no temporary left.
 check_train_sighup() {
   local dir=$WORK/sighup first rc
@@ -403,6 +426,23 @@ check_train_file_size() {
   [ "$rc" -eq 1 ] || echo "train exited $rc under ulimit -f (a crash by SIGXFSZ is 153)"
   grep -q "file-size limit" <<< "$message" || echo "unclear message: $message"
   ! ls "$dir/run" | grep -q '\.tmp-' || echo "temporaries left: $(ls "$dir/run" | grep '\.tmp-')"
+}
+
+# Class 9 (data-parallel training): under mpirun -np 2 a global batch of 1 leaves a rank without
+# rows; it hung in the batch-norm sums. Every rank now refuses before the first step.
+check_batch_smaller_than_ranks() {
+  local mpirun dir=$WORK/ranks rc
+  mpirun=$(command -v mpirun || command -v mpiexec) || return 0
+  rm -rf "$dir" && mkdir -p "$dir"
+  sed 's/"batch": 2/"batch": 1/' "$FX/cfg.json" > "$FX/batch1_cfg.json"
+  message=$(timeout -k 5 120 "$mpirun" --allow-run-as-root --oversubscribe -np 2 "$FACETOOL" train \
+    --config "$FX/batch1_cfg.json" --out "$dir/run" --steps 2 2>&1 < /dev/null)
+  rc=$?
+  if grep -q "without MPI" <<< "$message"; then return 0; fi  # facetool built without MPI
+  [ "$rc" -ne 124 ] && [ "$rc" -ne 137 ] || { echo "mpirun -np 2 with batch 1 did not end (hang)"; return; }
+  [ "$rc" -ne 0 ] || echo "mpirun -np 2 with batch 1 exited 0"
+  grep -q "fewer rows than the 2 ranks" <<< "$message" || echo "unclear message: $message"
+  [ ! -e "$dir/run/checkpoint.safetensors" ] || echo "a checkpoint was written"
 }
 
 # Inputs sharing a name, in any order, each get their own output folder.
@@ -447,16 +487,28 @@ limit_cases() {
     base=$(smallest_working_memory_limit synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" \
       -o "$WORK/probe_synth" --size 32 --count 1)
     if [ -n "$base" ]; then
-      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/synth-memory "out of memory" \
+      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/synth-memory \
+        "out of memory while generating a 4096x4096 synthetic sample (needs ~4.7 GB)" \
         "synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt -o {OUT}/bigsynth --size 4096 --count 1"
     else
       skip_case limits/synth-memory "no address-space limit lets facetool start here"
     fi
+    # Training at width 256 (about 15 M parameters, 0.5 GB a step) with 200 MB more than a
+    # width-4 run needs: the message names what was being allocated and about how much.
+    base=$(smallest_working_memory_limit train --config "$FX/cfg.json" --out "$WORK/probe_train" --steps 1 --overwrite)
+    if [ -n "$base" ]; then
+      LIMITS="ulimit -v $((base + 200000))" run_table_case limits/train-memory "(needs ~" \
+        "train --config {FX}/wide_cfg.json --out {OUT}/newrun --steps 1"
+    else
+      skip_case limits/train-memory "no address-space limit lets facetool start here"
+    fi
   fi
   run_check concurrency/two-trains-one-folder check_two_trains
   run_check concurrency/two-synths-one-folder check_two_synths
+  run_check concurrency/same-shard-one-folder check_same_shard
   run_check signals/train-sighup check_train_sighup
   run_check names/infer-unique-names check_unique_names
+  run_check distributed/train-batch-smaller-than-ranks check_batch_smaller_than_ranks
   run_check prepare-real/output-inside-input check_prepare_real_inside_input
 }
 

@@ -133,11 +133,15 @@ TEST(DistributedTrain, TwoRanksEqualOneProcessOnTheCombinedBatch) {
             << " against one process (host batch norm), " << worst_backend
             << " against one process (backend batch norm), whose own difference is " << floor
             << "\n";
-  // Tolerances: 1e-3 x each tensor's largest magnitude (floor 1e-3) against the host batch
-  // norm: float sums in another order through 5 Adam steps (measured 2e-4); against the
-  // backend's batch norm no more than 1.5x the two single-process implementations' own gap.
+  // Tolerances: 1e-3 x each tensor's largest magnitude (floor 1e-3) against either batch norm:
+  // float sums in another order through 5 Adam steps (measured 3.8e-4 against the host batch
+  // norm, 2.7e-4 against the backend's; the two single-process runs 2.6e-4 apart). Before the
+  // host batch norm computed the cpu backend's floats (synced_batch_norm.cpp) both gaps against
+  // the backend's were 1.1e-2: its outputs were one rounding off, a leaky ReLU's derivative
+  // flipped on a pixel next to 0 and Adam carried the changed gradient on.
   EXPECT_LE(worst, 1e-3);
-  EXPECT_LE(worst_backend, 1.5 * floor + 1e-5);
+  EXPECT_LE(worst_backend, 1e-3);
+  EXPECT_LE(floor, 1e-3);
   // The test can fail: the same ranks with per-rank batch-norm statistics (the hook removed)
   // miss by far more than the tolerance.
   const TrainedRun local_bn = train(c, plugins, comm.get(), /*local_statistics=*/true);

@@ -294,10 +294,37 @@ TEST_F(RoundTwo, OneRunPerOutputFolder) {
   }
   // Released with its holder; shards share, and exclude an exclusive run.
   EXPECT_EQ(error_text([&] { FolderLock again(dir_.string(), "--out"); }), "");
-  const FolderLock shard_a(dir_.string(), "--out", FolderLock::Mode::kShared);
-  EXPECT_EQ(error_text([&] { FolderLock b(dir_.string(), "--out", FolderLock::Mode::kShared); }), "");
+  const FolderLock shard_0(dir_.string(), "--out", 0, 3);
+  EXPECT_EQ(error_text([&] { FolderLock shard_1(dir_.string(), "--out", 1, 3); }), "");
   EXPECT_NE(error_text([&] { FolderLock whole(dir_.string(), "--out"); }), "");
   EXPECT_TRUE(fs::is_empty(dir_));  // no lock file left in the user's folder
+}
+
+// Two processes of the same shard wrote the same files: both took the shared lock, so the
+// second ran. Now each shard also locks its own byte of the folder: the same shard is refused,
+// in this process and in another, and so is a shard of a run split another way; the other
+// shards of the run still share the folder, and a shard's slot is free again once it ends.
+TEST_F(RoundTwo, OneProcessPerShardOfAnOutputFolder) {
+  const std::string folder = dir_.string();
+  const FolderLock shard_1(folder, "-o", 1, 3);
+  const std::string same = error_text([&] { FolderLock again(folder, "-o", 1, 3); });
+  EXPECT_TRUE(has(same, "-o '" + folder + "' is in use by another facetool run of shard 1/3"))
+      << same;
+  const int status = in_child([&] {
+    const bool same_refused = !error_text([&] { FolderLock s(folder, "-o", 1, 3); }).empty();
+    const bool split_refused = has(error_text([&] { FolderLock s(folder, "-o", 0, 2); }),
+                                   "split into another number of shards");
+    const bool other_shard_runs = error_text([&] { FolderLock s(folder, "-o", 2, 3); }).empty();
+    const bool whole_refused = !error_text([&] { FolderLock s(folder, "-o"); }).empty();
+    return same_refused && split_refused && other_shard_runs && whole_refused ? 0 : 1;
+  });
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  {
+    const FolderLock shard_0(folder, "-o", 0, 3);
+    EXPECT_NE(error_text([&] { FolderLock s(folder, "-o", 0, 3); }), "");
+  }
+  EXPECT_EQ(error_text([&] { FolderLock s(folder, "-o", 0, 3); }), "");  // released
+  EXPECT_TRUE(fs::is_empty(dir_));
 }
 
 // --- class 7: silently wrong inputs -------------------------------------------------------------

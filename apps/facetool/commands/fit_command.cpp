@@ -116,8 +116,7 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
     fs::create_directories(out_dir, ec);
     check(!ec, "cannot create output folder '", out_dir, "': ", ec.message());
   }
-  const FolderLock lock(out_dir, "-o",
-                        shard_count > 1 ? FolderLock::Mode::kShared : FolderLock::Mode::kExclusive);
+  const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   const std::unique_ptr<FaceDetector> face_detector = make_face_detector(photo_options);
   FaceDetector& detector = *face_detector;
   const bool same_person = values.count("same-person") > 0;

@@ -144,8 +144,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
     fs::create_directories(out_dir, ec);
     check(!ec, "cannot create output folder '", out_dir, "': ", ec.message());
   }
-  const FolderLock lock(out_dir, "-o",
-                        shard_count > 1 ? FolderLock::Mode::kShared : FolderLock::Mode::kExclusive);
+  const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   const int size = network->config().input_size;
   std::unique_ptr<PhotoFitter> fitter;
   if (values.count("with-fit")) {

@@ -76,11 +76,14 @@ LayeredImage labelled_sample(const FaceInput& in, const Decomposition& d, int in
 
 // --from fit: each prepare-real sample labelled by the fit to its landmarks.
 int pseudo_label_from_fit(const std::vector<std::string>& files, const std::string& out_dir,
-                          const po::variables_map& values) {
+                          int shard_index, int shard_count, const po::variables_map& values) {
   const PhotoFitOptions options = fit_options_from(values);
   const FitBasis basis = FitBasis::load(values["face-model"].as<std::string>());
   const VisibilitySampler sampler(options.direction_count);
   fs::create_directories(out_dir);
+  check_input_folder(out_dir, "-o");
+  // One run per output folder (the shards of one sharded run write disjoint names and share it).
+  const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
   for (const std::string& file : files) {
     check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
@@ -174,7 +177,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   check(!mine.empty(), "pseudo-label: shard ", shard, " holds no inputs (fewer inputs than shards)");
   files = std::move(mine);
 
-  if (from == "fit") return pseudo_label_from_fit(files, out_dir, values);
+  if (from == "fit") return pseudo_label_from_fit(files, out_dir, shard_index, shard_count, values);
 
   Backend& backend = get_backend(context.backend);
   auto network = load_trained_network(context, backend, model);
@@ -183,7 +186,8 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   const int size = network->config().input_size;
   fs::create_directories(out_dir);
   check_input_folder(out_dir, "-o");
-  const FolderLock lock(out_dir, "-o");  // one run per output folder
+  // One run per output folder (the shards of one sharded run write disjoint names and share it).
+  const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "images");
   std::vector<FaceInput> inputs;  // the batch's
   decompose_in_batches(

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "apps/facetool/commands/command.h"
@@ -11,6 +12,7 @@
 #include "core/backend/registry.h"
 #include "libs/distributed/communicator.h"
 #include "libs/train/trainer.h"
+#include "core/util/memory_budget.h"
 #include "libs/train/training_run.h"
 #include "core/util/progress_bar.h"
 
@@ -73,7 +75,17 @@ int run_train_command(CommandContext& context, const std::vector<std::string>& a
     if (info.kind == FACETOOL_PLUGIN_LOSS)
       losses.push_back(create_plugin<LossPlugin>(context, FACETOOL_PLUGIN_LOSS, info.name));
   check(!losses.empty(), "no loss plugin found (paper_losses.ftplugin.so); see `facetool plugins`");
-  Trainer trainer(backend, config, network, renderer, losses);
+  // Building the network allocates its parameters, their gradients and Adam's moments.
+  const int64_t parameters = Trainer::parameter_estimate(config);
+  std::optional<Trainer> built;
+  char millions[32];
+  std::snprintf(millions, sizeof millions, "%.1f", static_cast<double>(parameters) / 1e6);
+  naming_out_of_memory("building the " + config.network + " of width " +
+                           std::to_string(config.width) + " (about " + millions +
+                           " M parameters)",
+                       static_cast<uint64_t>(parameters) * 4 * sizeof(float),
+                       [&] { built.emplace(backend, config, network, renderer, losses); });
+  Trainer& trainer = *built;
   // Under mpirun every rank trains on its rows of each batch; rank 0 alone writes the run
   // folder and draws progress (docs/distributed.md).
   const std::unique_ptr<Communicator> comm = make_communicator();
