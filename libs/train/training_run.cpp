@@ -102,7 +102,7 @@ TrainingRun::TrainingRun(Trainer& trainer, const TrainingConfig& config, Communi
 void TrainingRun::save_all() {
   if (!writer_) return;
   trainer_.save(checkpoint_);
-  save_network_weights(trainer_.network(), config_.network, weights_);
+  save_network_weights(trainer_.network(), config_.network, weights_, config_.framing);
   write_loss_curve(curve_, points_);
 }
 
