@@ -2,6 +2,7 @@
 #include "libs/image/crop_framing.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "core/util/error.h"
@@ -29,11 +30,23 @@ BorderFill parse_border_fill(const std::string& text, const std::string& what) {
   fail(what, ": unknown border fill '", text, "' (use edge-repeat or ring-mean)");
 }
 
-std::string framing_text(const CropFraming& f) {
-  char text[160];
-  std::snprintf(text, sizeof text, "zoom %.17g centre %.17g %.17g border %s", f.zoom, f.centre_x,
-                f.centre_y, border_fill_name(f.border));
+namespace {
+
+// The shortest of 15, 16 or 17 significant digits that reads back as the same double.
+std::string number(double v) {
+  char text[32];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, v);
+    if (std::strtod(text, nullptr) == v) break;
+  }
   return text;
+}
+
+}  // namespace
+
+std::string framing_text(const CropFraming& f) {
+  return "zoom " + number(f.zoom) + " centre " + number(f.centre_x) + " " + number(f.centre_y) +
+         " border " + border_fill_name(f.border);
 }
 
 CropFraming parse_framing(const std::string& text, const std::string& what) {

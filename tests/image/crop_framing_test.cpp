@@ -14,6 +14,10 @@ TEST(CropFraming, TextRoundTripsAndPresetsParse) {
   EXPECT_EQ(parse_framing("v1", "test"), CropFraming{});
   EXPECT_EQ(parse_framing("v2", "test"), v2_framing());
   EXPECT_EQ(framing_text(v1_framing()), "zoom 1 centre 0.5 0.5 border edge-repeat");
+  EXPECT_EQ(framing_text(v2_framing()), "zoom 1.6 centre 0.5 0.456 border ring-mean");
+  CropFraming third;
+  third.zoom = 1.0 / 3.0;
+  EXPECT_EQ(parse_framing(framing_text(third), "test").zoom, third.zoom);
   const CropFraming odd = parse_framing("zoom 1.25 centre 0.4 0.6 border ring-mean", "test");
   EXPECT_EQ(odd.zoom, 1.25);
   EXPECT_EQ(odd.border, BorderFill::kRingMean);
