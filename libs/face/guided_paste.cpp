@@ -23,7 +23,39 @@ std::vector<float> photo_guide(const RgbImage& photo) {
   return guide;
 }
 
+std::vector<float> crop_guide(const std::vector<float>& guide, int w, int h, const PasteRegion& r) {
+  check(guide.size() == static_cast<size_t>(w) * h, "guided paste-back: a guide of ", guide.size(),
+        " pixels for a ", w, "x", h, " photo");
+  // The photo pixels the crop's samples can touch: its corners mapped back, one pixel of margin
+  // for bilinear taps; clipped to the photo (where edge repeat then clamps as on the whole photo).
+  const Similarity2 back = r.photo_to_crop.inverse();
+  const double s = r.crop_size;
+  double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300;
+  for (const Point2 c : {Point2{-0.5, -0.5}, Point2{s - 0.5, -0.5}, Point2{-0.5, s - 0.5}, Point2{s - 0.5, s - 0.5}}) {
+    const Point2 p = back.apply(c);
+    lx = std::min(lx, p.x);
+    ly = std::min(ly, p.y);
+    hx = std::max(hx, p.x);
+    hy = std::max(hy, p.y);
+  }
+  const int x0 = std::clamp(static_cast<int>(std::floor(lx)) - 1, 0, w - 1);
+  const int y0 = std::clamp(static_cast<int>(std::floor(ly)) - 1, 0, h - 1);
+  const int x1 = std::clamp(static_cast<int>(std::ceil(hx)) + 2, x0 + 1, w);
+  const int y1 = std::clamp(static_cast<int>(std::ceil(hy)) + 2, y0 + 1, h);
+  RgbImage part;
+  part.width = x1 - x0;
+  part.height = y1 - y0;
+  part.pixels.resize(static_cast<size_t>(part.width) * part.height * 3);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      std::fill_n(part.at(x - x0, y - y0), 3, guide[static_cast<size_t>(y) * w + x]);
+  std::vector<float> out = warp_to_crop(part, r.photo_to_crop.then_after(Similarity2::from(1.0, 0.0, x0, y0)), r.crop_size);
+  out.resize(static_cast<size_t>(r.crop_size) * r.crop_size);  // the first of three equal planes
+  return out;
+}
+
 void paste_channels_guided(const PasteRegion& r, const float* crop, int channels,
+                           const std::vector<float>& crop_guide_planar,
                            const std::vector<float>& guide, float* photo, int photo_width,
                            int photo_height, bool unit_vectors, float clamp_lo, float clamp_hi,
                            const GuidedUpsampling& settings) {
@@ -35,20 +67,14 @@ void paste_channels_guided(const PasteRegion& r, const float* crop, int channels
   if (r.width == 0 || r.height == 0) return;
   const int s = r.crop_size;
   const size_t crop_plane = static_cast<size_t>(s) * s;
+  check(crop_guide_planar.size() == crop_plane, "guided paste-back: a crop guide of ",
+        crop_guide_planar.size(), " pixels for a ", s, "x", s, " crop");
   // a and b on the crop's grid, against the guide warped into the crop as the photo was.
   std::vector<float> coefficients;  // [2C][S*S]: a then b
   {
     StageTimer timer("guided filter");
-    RgbImage guide_image;
-    guide_image.width = photo_width;
-    guide_image.height = photo_height;
-    guide_image.pixels.resize(photo_plane * 3);
-    for (size_t i = 0; i < photo_plane; ++i)
-      std::fill_n(guide_image.pixels.begin() + 3 * i, 3, guide[i]);
-    std::vector<float> crop_guide = warp_to_crop(guide_image, r.photo_to_crop, s);
-    crop_guide.resize(crop_plane);  // the first of three equal planes
     const GuidedCoefficients k = guided_coefficients(
-        crop_guide, std::vector<float>(crop, crop + channels * crop_plane), channels, s, s,
+        crop_guide_planar, std::vector<float>(crop, crop + channels * crop_plane), channels, s, s,
         settings.radius, settings.epsilon);
     coefficients = k.a;
     coefficients.insert(coefficients.end(), k.b.begin(), k.b.end());

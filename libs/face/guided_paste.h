@@ -23,9 +23,14 @@ struct GuidedUpsampling {
 // encoded values, so that edges in shadows count as much as a viewer sees them.
 std::vector<float> photo_guide(const RgbImage& photo);
 
+// The guide brought into the region's crop the way the photo was (warp_to_crop, area averaged;
+// edge repeat): [S*S]. Reads only the part of the guide the crop covers.
+std::vector<float> crop_guide(const std::vector<float>& guide, int photo_width, int photo_height,
+                              const PasteRegion& region);
+
 // Like paste_channels (paste_back.h), with guided upsampling (He and Sun, "Fast Guided Filter",
-// 2015): the guide is brought into the crop the way the photo was (warp_to_crop, area
-// averaged), the guided filter's coefficients a, b (libs/image/guided_filter.h) are fitted there
+// 2015): with the guide in the crop (`crop_guide_planar`, crop_guide(...)), the guided filter's
+// coefficients a, b (libs/image/guided_filter.h) are fitted there
 // between it and the crop's maps, sampled bilinearly at each photo pixel like the maps
 // themselves would be, and applied to the photo's own guide: value = a * guide + b. Where the
 // map is a linear function of the guide within a window, the photo's edges come through at its
@@ -33,6 +38,7 @@ std::vector<float> photo_guide(const RgbImage& photo);
 // channels are a vector per pixel, renormalised (normals); otherwise the result is clamped to
 // [clamp_lo, clamp_hi] (albedo: 0, 1). `guide` is photo_guide(photo).
 void paste_channels_guided(const PasteRegion& region, const float* crop_planar, int channels,
+                           const std::vector<float>& crop_guide_planar,
                            const std::vector<float>& guide, float* photo_planar, int photo_width,
                            int photo_height, bool unit_vectors, float clamp_lo, float clamp_hi,
                            const GuidedUpsampling& settings = {});

@@ -132,9 +132,11 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
     const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
     paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
     if (guided) {
-      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, guide,
+      const std::vector<float> in_crop = crop_guide(guide, w, h, region);
+      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, in_crop, guide,
                             layers.albedo.data(), w, h, false, 0.0f, 1.0f);
-      paste_channels_guided(region, normal.data(), 3, guide, layers.normal.data(), w, h, true, 0.0f, 0.0f);
+      paste_channels_guided(region, normal.data(), 3, in_crop, guide, layers.normal.data(), w, h, true,
+                            0.0f, 0.0f);
     } else {
       paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
       paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);

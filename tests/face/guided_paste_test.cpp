@@ -2,6 +2,7 @@
 // blend by alpha, unit normals, a smooth map under a flat guide, and the guide's luma.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "libs/face/face_alignment.h"
@@ -53,8 +54,9 @@ TEST(GuidedPaste, SharpensAnEdgeTheCropBlurredBeyondBilinear) {
   const EdgeCase t;
   std::vector<float> bilinear(3 * 96 * 96, 0.0f), guided(3 * 96 * 96, 0.0f);
   paste_channels(t.region, t.crop.data(), 3, bilinear.data(), 96, 96);
-  paste_channels_guided(t.region, t.crop.data(), 3, photo_guide(t.photo), guided.data(), 96, 96, false,
-                        0.0f, 1.0f);
+  const std::vector<float> guide = photo_guide(t.photo);
+  paste_channels_guided(t.region, t.crop.data(), 3, crop_guide(guide, 96, 96, t.region), guide, guided.data(),
+                        96, 96, false, 0.0f, 1.0f);
   const EdgeMeasure b = measure(bilinear), g = measure(guided);
   std::printf("edge width (10-90 %%): bilinear %d px, guided %d px; mean |error| near the edge: bilinear %.4f, guided %.4f\n",
               b.width, g.width, b.error, g.error);
@@ -76,7 +78,9 @@ TEST(GuidedPaste, FlatGuideGivesSmoothValuesUnitNormalsAndKeepsOutsideAlone) {
     normals[2 * 24 * 24 + p] = static_cast<float>(std::cos(angle));
   }
   std::vector<float> out(3 * 96 * 96, 7.0f);
-  paste_channels_guided(t.region, normals.data(), 3, photo_guide(flat), out.data(), 96, 96, true, 0, 0);
+  const std::vector<float> guide = photo_guide(flat);
+  paste_channels_guided(t.region, normals.data(), 3, crop_guide(guide, 96, 96, t.region), guide, out.data(), 96,
+                        96, true, 0, 0);
   std::vector<float> bilinear(3 * 96 * 96, 7.0f);
   paste_channels(t.region, normals.data(), 3, bilinear.data(), 96, 96);
   int inside = 0;
@@ -100,6 +104,28 @@ TEST(GuidedPaste, FlatGuideGivesSmoothValuesUnitNormalsAndKeepsOutsideAlone) {
     }
   }
   EXPECT_GT(inside, 5000);
+}
+
+// crop_guide reads only the crop's part of the guide but gives what warping the whole guide does.
+TEST(GuidedPaste, CropGuideIsTheWholeGuideWarped) {
+  RgbImage photo;
+  photo.width = 70;
+  photo.height = 50;
+  photo.pixels.resize(70 * 50 * 3);
+  for (size_t i = 0; i < photo.pixels.size(); ++i) photo.pixels[i] = static_cast<float>((i * 7919) % 101) / 100.0f;
+  const std::vector<float> guide = photo_guide(photo);
+  RgbImage grey = photo;
+  for (size_t p = 0; p < guide.size(); ++p) std::fill_n(grey.pixels.begin() + 3 * p, 3, guide[p]);
+  const std::vector<Point2> square = {{2, 2}, {13, 2}, {13, 13}, {2, 13}};
+  for (const Similarity2& t : {Similarity2::from(0.5, 0.3, -3.0, 2.0), Similarity2::from(0.2, -0.1, 4.0, 5.0),
+                               Similarity2::from(0.35, 1.2, 8.0, -10.0)}) {
+    const PasteRegion region = paste_region(70, 50, t, 16, square, 1.0);
+    std::vector<float> whole = warp_to_crop(grey, t, 16);
+    whole.resize(16 * 16);
+    const std::vector<float> part = crop_guide(guide, 70, 50, region);
+    ASSERT_EQ(part.size(), whole.size());
+    for (size_t i = 0; i < whole.size(); ++i) EXPECT_NEAR(part[i], whole[i], 1e-5) << "pixel " << i;
+  }
 }
 
 TEST(GuidedPaste, GuideIsTheLumaOfTheSrgbEncodedPhoto) {
