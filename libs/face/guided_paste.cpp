@@ -24,6 +24,7 @@ std::vector<float> photo_guide(const RgbImage& photo) {
 }
 
 std::vector<float> crop_guide(const std::vector<float>& guide, int w, int h, const PasteRegion& r) {
+  StageTimer timer("guided filter");
   check(guide.size() == static_cast<size_t>(w) * h, "guided paste-back: a guide of ", guide.size(),
         " pixels for a ", w, "x", h, " photo");
   // The photo pixels the crop's samples can touch: its corners mapped back, one pixel of margin

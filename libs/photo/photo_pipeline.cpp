@@ -11,6 +11,7 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/memory_budget.h"
+#include "core/util/stage_timer.h"
 #include "core/util/terminal_text.h"
 
 namespace fs = std::filesystem;
@@ -118,7 +119,11 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
   out.old_shading.assign(plane * 3, 1.0f);
   const std::vector<float> ones(crop_plane, 1.0f);
   const bool guided = upsample == Upsample::kGuided;
-  const std::vector<float> guide = guided ? photo_guide(out.photo) : std::vector<float>{};
+  std::vector<float> guide;
+  if (guided) {
+    StageTimer timer("guided filter");
+    guide = photo_guide(out.photo);
+  }
   const Decomposition& d = out.decomposition;
   for (int k = 0; k < n; ++k) {
     const FaceCrop& c = out.crops[k];
