@@ -11,7 +11,6 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/memory_budget.h"
-#include "core/util/stage_timer.h"
 #include "core/util/terminal_text.h"
 
 namespace fs = std::filesystem;
@@ -119,11 +118,7 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
   out.old_shading.assign(plane * 3, 1.0f);
   const std::vector<float> ones(crop_plane, 1.0f);
   const bool guided = upsample == Upsample::kGuided;
-  std::vector<float> guide;
-  if (guided) {
-    StageTimer timer("guided filter");
-    guide = photo_guide(out.photo);
-  }
+
   const Decomposition& d = out.decomposition;
   for (int k = 0; k < n; ++k) {
     const FaceCrop& c = out.crops[k];
@@ -137,11 +132,10 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
     const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
     paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
     if (guided) {
-      const std::vector<float> in_crop = crop_guide(guide, w, h, region);
-      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, in_crop, guide,
+      const FaceGuide guide = face_guide(out.photo, region);
+      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, guide,
                             layers.albedo.data(), w, h, false, 0.0f, 1.0f);
-      paste_channels_guided(region, normal.data(), 3, in_crop, guide, layers.normal.data(), w, h, true,
-                            0.0f, 0.0f);
+      paste_channels_guided(region, normal.data(), 3, guide, layers.normal.data(), w, h, true, 0.0f, 0.0f);
     } else {
       paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
       paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);

@@ -1,5 +1,5 @@
 // Guided paste-back against bilinear on a sharp edge the crop cannot hold, and its contract: the
-// blend by alpha, unit normals, a smooth map under a flat guide, and the guide's luma.
+// blend by alpha, unit normals, a smooth map under a flat guide, and the face's guide.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,9 +54,8 @@ TEST(GuidedPaste, SharpensAnEdgeTheCropBlurredBeyondBilinear) {
   const EdgeCase t;
   std::vector<float> bilinear(3 * 96 * 96, 0.0f), guided(3 * 96 * 96, 0.0f);
   paste_channels(t.region, t.crop.data(), 3, bilinear.data(), 96, 96);
-  const std::vector<float> guide = photo_guide(t.photo);
-  paste_channels_guided(t.region, t.crop.data(), 3, crop_guide(guide, 96, 96, t.region), guide, guided.data(),
-                        96, 96, false, 0.0f, 1.0f);
+  paste_channels_guided(t.region, t.crop.data(), 3, face_guide(t.photo, t.region), guided.data(), 96, 96, false,
+                        0.0f, 1.0f);
   const EdgeMeasure b = measure(bilinear), g = measure(guided);
   std::printf("edge width (10-90 %%): bilinear %d px, guided %d px; mean |error| near the edge: bilinear %.4f, guided %.4f\n",
               b.width, g.width, b.error, g.error);
@@ -78,9 +77,7 @@ TEST(GuidedPaste, FlatGuideGivesSmoothValuesUnitNormalsAndKeepsOutsideAlone) {
     normals[2 * 24 * 24 + p] = static_cast<float>(std::cos(angle));
   }
   std::vector<float> out(3 * 96 * 96, 7.0f);
-  const std::vector<float> guide = photo_guide(flat);
-  paste_channels_guided(t.region, normals.data(), 3, crop_guide(guide, 96, 96, t.region), guide, out.data(), 96,
-                        96, true, 0, 0);
+  paste_channels_guided(t.region, normals.data(), 3, face_guide(flat, t.region), out.data(), 96, 96, true, 0, 0);
   std::vector<float> bilinear(3 * 96 * 96, 7.0f);
   paste_channels(t.region, normals.data(), 3, bilinear.data(), 96, 96);
   int inside = 0;
@@ -106,36 +103,37 @@ TEST(GuidedPaste, FlatGuideGivesSmoothValuesUnitNormalsAndKeepsOutsideAlone) {
   EXPECT_GT(inside, 5000);
 }
 
-// crop_guide reads only the crop's part of the guide but gives what warping the whole guide does.
-TEST(GuidedPaste, CropGuideIsTheWholeGuideWarped) {
+float luma(const float* p) {
+  return 0.2126f * linear_to_srgb(p[0]) + 0.7152f * linear_to_srgb(p[1]) + 0.0722f * linear_to_srgb(p[2]);
+}
+
+// face_guide reads only the face's part of the photo but gives, there, the luma of the
+// sRGB-encoded photo, and in the crop what warping the whole photo's luma does.
+TEST(GuidedPaste, FaceGuideIsThePhotosLumaAndItsWarp) {
   RgbImage photo;
   photo.width = 70;
   photo.height = 50;
   photo.pixels.resize(70 * 50 * 3);
   for (size_t i = 0; i < photo.pixels.size(); ++i) photo.pixels[i] = static_cast<float>((i * 7919) % 101) / 100.0f;
-  const std::vector<float> guide = photo_guide(photo);
   RgbImage grey = photo;
-  for (size_t p = 0; p < guide.size(); ++p) std::fill_n(grey.pixels.begin() + 3 * p, 3, guide[p]);
+  for (int y = 0; y < 50; ++y)
+    for (int x = 0; x < 70; ++x) std::fill_n(grey.at(x, y), 3, std::clamp(luma(photo.at(x, y)), 0.0f, 1.0f));
   const std::vector<Point2> square = {{2, 2}, {13, 2}, {13, 13}, {2, 13}};
   for (const Similarity2& t : {Similarity2::from(0.5, 0.3, -3.0, 2.0), Similarity2::from(0.2, -0.1, 4.0, 5.0),
                                Similarity2::from(0.35, 1.2, 8.0, -10.0)}) {
     const PasteRegion region = paste_region(70, 50, t, 16, square, 1.0);
+    const FaceGuide g = face_guide(photo, region);
+    ASSERT_GT(g.width * g.height, 0);
+    EXPECT_LE(g.x0, region.x0);
+    EXPECT_GE(g.x0 + g.width, region.x0 + region.width);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x)
+        EXPECT_EQ(g.photo[y * g.width + x], grey.at(g.x0 + x, g.y0 + y)[0]);
     std::vector<float> whole = warp_to_crop(grey, t, 16);
     whole.resize(16 * 16);
-    const std::vector<float> part = crop_guide(guide, 70, 50, region);
-    ASSERT_EQ(part.size(), whole.size());
-    for (size_t i = 0; i < whole.size(); ++i) EXPECT_NEAR(part[i], whole[i], 1e-5) << "pixel " << i;
+    ASSERT_EQ(g.crop.size(), whole.size());
+    for (size_t i = 0; i < whole.size(); ++i) EXPECT_NEAR(g.crop[i], whole[i], 1e-5) << "pixel " << i;
   }
-}
-
-TEST(GuidedPaste, GuideIsTheLumaOfTheSrgbEncodedPhoto) {
-  RgbImage photo;
-  photo.width = 2;
-  photo.height = 1;
-  photo.pixels = {1.0f, 1.0f, 1.0f, 0.2f, 0.0f, 0.0f};
-  const std::vector<float> g = photo_guide(photo);
-  EXPECT_NEAR(g[0], 1.0f, 1e-6);
-  EXPECT_NEAR(g[1], 0.2126f * linear_to_srgb(0.2f), 1e-6);
 }
 
 }  // namespace
