@@ -185,7 +185,9 @@ class Model {
   Photo decompose(RgbImage image, const std::string& source, const PhotoInferOptions& options) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!detector_) detector_ = std::make_unique<FaceDetector>(landmark_model_);
-    PhotoDecomposer photos(*detector_, *decomposer_, *backend_, model_.input_size, options);
+    PhotoInferOptions framed = options;
+    framed.framing = model_.framing;  // crops framed as the model was trained
+    PhotoDecomposer photos(*detector_, *decomposer_, *backend_, model_.input_size, framed);
     return Photo{std::make_shared<const DecomposedPhoto>(photos.decompose(std::move(image), source))};
   }
 

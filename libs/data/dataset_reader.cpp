@@ -66,6 +66,7 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
         options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
         options_.batch_size);
   read_training_sample_size(files_[0], width_, height_);
+  framing_ = read_training_sample_framing(files_[0]);
   worker_ = std::thread([this] { produce(); });
 }
 

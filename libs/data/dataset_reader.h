@@ -56,6 +56,8 @@ class DatasetReader {
   const std::vector<std::string>& files() const { return files_; }
   int width() const { return width_; }
   int height() const { return height_; }
+  // The first sample's framing text (read_training_sample_framing: "v1" when not recorded).
+  const std::string& framing() const { return framing_; }
 
   // The next batch; blocks until it is decoded. Batches run through a fresh permutation every
   // epoch; the last batch of an epoch is dropped when it would be short. A file that fails to
@@ -71,6 +73,7 @@ class DatasetReader {
   DatasetReaderOptions options_;
   std::vector<std::string> files_;
   int width_ = 0, height_ = 0;
+  std::string framing_;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<HostBatch> ready_;

@@ -113,4 +113,10 @@ void read_training_sample_size(const std::string& path, int& width, int& height)
   height = header.height;
 }
 
+std::string read_training_sample_framing(const std::string& path) {
+  const LayeredImage header = read_exr_header(path, kPrefix);
+  const std::string* framing = header.find_metadata("facetool:framing");
+  return framing ? *framing : "v1";
+}
+
 }  // namespace facetool

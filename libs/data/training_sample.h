@@ -26,4 +26,8 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels);
 // Width and height from the file's header.
 void read_training_sample_size(const std::string& path, int& width, int& height);
 
+// The framing the sample was made at: its facetool:framing attribute (synth --framing,
+// prepare-real --framing; libs/image/crop_framing.h), or "v1" when it has none.
+std::string read_training_sample_framing(const std::string& path);
+
 }  // namespace facetool

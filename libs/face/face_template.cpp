@@ -80,11 +80,16 @@ const Landmarks68& canonical_template_units() {
   return table;
 }
 
-Landmarks68 canonical_template(int crop_size) {
+Landmarks68 canonical_template(int crop_size, const CropFraming& framing) {
   Landmarks68 out;
   const Landmarks68& units = canonical_template_units();
-  for (int i = 0; i < kLandmarkCount; ++i)
-    out[i] = {units[i].x * crop_size - 0.5, units[i].y * crop_size - 0.5};
+  const bool v1 = framing.zoom == 1.0 && framing.centre_x == 0.5 && framing.centre_y == 0.5;
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    // v1 uses the table as it is (bit for bit what it was before framings existed).
+    const double u = v1 ? units[i].x : framing.to_x(units[i].x);
+    const double v = v1 ? units[i].y : framing.to_y(units[i].y);
+    out[i] = {u * crop_size - 0.5, v * crop_size - 0.5};
+  }
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "libs/face/point2.h"
+#include "libs/image/crop_framing.h"
 
 namespace facetool {
 
@@ -12,8 +13,9 @@ namespace facetool {
 // --face-model ICT-FaceKit/FaceXModel` (libs/synth/landmark_projection.cpp) and committed.
 const Landmarks68& canonical_template_units();
 
-// The template in pixel coordinates of a crop of size x size (pixel centres at integers).
-Landmarks68 canonical_template(int crop_size);
+// The template in pixel coordinates of a crop of size x size (pixel centres at integers), framed
+// by `framing` (the table is v1's framing; others map it by CropFraming::to_x/to_y).
+Landmarks68 canonical_template(int crop_size, const CropFraming& framing = CropFraming{});
 
 // C++ source of the table in face_template.cpp for `landmarks` (what `facetool face-template`
 // prints).

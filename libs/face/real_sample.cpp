@@ -1,6 +1,8 @@
 // Real samples: EXR layout, header check for resuming, edge test.
 #include "libs/face/real_sample.h"
 
+#include "libs/face/face_mask.h"
+
 #include <cstdio>
 
 #include "libs/io/exr_io.h"
@@ -16,7 +18,8 @@ std::string number(double v) {
 }
 }  // namespace
 
-LayeredImage real_sample_image(const FaceCrop& crop, const std::string& source, bool forehead) {
+LayeredImage real_sample_image(const FaceCrop& crop, const std::string& source, bool forehead,
+                               const CropFraming& framing) {
   const int s = crop.alignment.crop_size;
   LayeredImage image(s, s, {"R", "G", "B", "mask"});
   const size_t plane = image.plane_size();
@@ -33,6 +36,7 @@ LayeredImage real_sample_image(const FaceCrop& crop, const std::string& source, 
   image.set_metadata("facetool:transform", transform);
   image.set_metadata("facetool:detection_score", number(crop.face.score));
   image.set_metadata("facetool:mask_kind", forehead ? "landmark-hull+forehead" : "landmark-hull");
+  if (framing != CropFraming{}) image.set_metadata("facetool:framing", framing_text(framing));
   return image;
 }
 
@@ -51,10 +55,12 @@ std::string read_real_sample_source(const std::string& path) {
 double mask_fraction_outside_photo(const FaceCrop& crop, int w, int h) {
   const int s = crop.alignment.crop_size;
   const Similarity2 back = crop.alignment.photo_to_crop.inverse();
+  // The whole polygon's mask (crop.mask is already cut at the photo's edge with the ring-mean fill).
+  const std::vector<float> mask = rasterize_mask(crop.mask_polygon, s);
   int inside = 0, outside = 0;
   for (int y = 0; y < s; ++y)
     for (int x = 0; x < s; ++x) {
-      if (crop.mask[static_cast<size_t>(y) * s + x] <= 0) continue;
+      if (mask[static_cast<size_t>(y) * s + x] <= 0) continue;
       const Point2 p = back.apply({static_cast<double>(x), static_cast<double>(y)});
       const bool out = p.x < -0.5 || p.y < -0.5 || p.x > w - 0.5 || p.y > h - 0.5;
       (out ? outside : inside) += 1;

@@ -30,6 +30,7 @@ LoadedNetwork load_network_weights_file(PluginLoader& plugins, Backend& backend,
   out.network = create_plugin_as<NetworkPlugin>(plugins, FACETOOL_PLUGIN_NETWORK, out.architecture);
   out.network->build(backend, header.config);
   load_network_weights(*out.network, weights, path);
+  out.framing = header.framing;
   return out;
 }
 
@@ -40,6 +41,7 @@ DecompositionModel load_decomposition_model(PluginLoader& plugins, Backend& back
   LoadedNetwork loaded = load_network_weights_file(plugins, backend, model.weights_path);
   model.network = std::move(loaded.network);
   model.architecture = std::move(loaded.architecture);
+  model.framing = loaded.framing;
   model.renderer = create_plugin_as<RendererPlugin>(plugins, FACETOOL_PLUGIN_RENDERER, renderer);
   model.input_size = model.network->config().input_size;
   return model;

@@ -11,6 +11,7 @@
 #include "core/plugin/plugin_loader.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/util/error.h"
+#include "libs/image/crop_framing.h"
 
 namespace facetool {
 
@@ -30,6 +31,7 @@ std::shared_ptr<Interface> create_plugin_as(PluginLoader& loader, uint32_t kind,
 struct LoadedNetwork {
   std::shared_ptr<NetworkPlugin> network;
   std::string architecture;
+  CropFraming framing;  // the weights' framing (v1 for random weights and files without one)
 };
 
 // Builds the weights' network on `backend` and loads them. `architecture` (a network plugin's
@@ -44,6 +46,7 @@ struct DecompositionModel {
   std::string architecture;
   std::string weights_path;
   int input_size = 0;  // the crop size the network takes
+  CropFraming framing;  // how its crops are framed (the weights' "framing" metadata)
 };
 
 // Loads `weights_path` (empty: the shipped model, libs/model/default_model.h) and the renderer

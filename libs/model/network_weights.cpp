@@ -78,6 +78,8 @@ WeightsHeader read_weights_header(const SafeTensors& file, const std::string& pa
   h.architecture = get("architecture");
   h.config.width = parse_positive_int(get("width"), "width", path);
   h.config.input_size = parse_positive_int(get("input_size"), "input_size", path);
+  if (auto it = meta.find("framing"); it != meta.end())
+    h.framing = parse_framing(it->second, "weights file '" + path + "': metadata 'framing'");
   return h;
 }
 
@@ -97,7 +99,7 @@ void load_network_weights(NetworkPlugin& net, const SafeTensors& file, const std
 }
 
 void save_network_weights(const NetworkPlugin& net, const std::string& architecture,
-                          const std::string& path) {
+                          const std::string& path, const CropFraming& framing) {
   SafeTensorsWriter writer;
   writer.set_metadata("format", kWeightsFormat);
   writer.set_metadata("format_version", std::to_string(kWeightsFormatVersion));
@@ -105,6 +107,7 @@ void save_network_weights(const NetworkPlugin& net, const std::string& architect
   writer.set_metadata("width", std::to_string(net.config().width));
   writer.set_metadata("input_size", std::to_string(net.config().input_size));
   writer.set_metadata("input", "linear_rgb");
+  if (framing != CropFraming{}) writer.set_metadata("framing", framing_text(framing));
   for (const auto& [name, variable] : net.parameters())
     writer.add(name, dims_of(variable.shape()), variable.value().to_host());
   for (const auto& [name, tensor] : net.buffers())

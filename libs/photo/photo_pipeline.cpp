@@ -52,7 +52,7 @@ std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& ph
                                       const PhotoInferOptions& options) {
   std::vector<FaceCrop> crops;
   for (const DetectedFace& f : detector.detect(photo, options.detection))
-    crops.push_back(crop_face(photo, f, crop_size, options.extend_forehead));
+    crops.push_back(crop_face(photo, f, crop_size, options.extend_forehead, options.framing));
   return crops;
 }
 
@@ -78,7 +78,8 @@ DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& so
   for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
                                         crop_size_, options_.batch);
-  return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather);
+  return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather,
+                                   options_.upsample);
 }
 
 DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
@@ -92,7 +93,8 @@ DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
 }
 
 DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
-                                          const Decomposition& decomposition, double feather) {
+                                          const Decomposition& decomposition, double feather,
+                                          Upsample upsample) {
   DecomposedPhoto out;
   out.path = path;
   out.photo = std::move(photo);
@@ -115,6 +117,8 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
   layers.reconstruction.assign(plane * 3, 0.0f);
   out.old_shading.assign(plane * 3, 1.0f);
   const std::vector<float> ones(crop_plane, 1.0f);
+  const bool guided = upsample == Upsample::kGuided;
+
   const Decomposition& d = out.decomposition;
   for (int k = 0; k < n; ++k) {
     const FaceCrop& c = out.crops[k];
@@ -127,8 +131,15 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
     rotate_visibility_to_photo(visibility.data(), crop_plane, t);
     const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
     paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
-    paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
-    paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
+    if (guided) {
+      const FaceGuide guide = face_guide(out.photo, region);
+      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, guide,
+                            layers.albedo.data(), w, h, false, 0.0f, 1.0f);
+      paste_channels_guided(region, normal.data(), 3, guide, layers.normal.data(), w, h, true, 0.0f, 0.0f);
+    } else {
+      paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
+      paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
+    }
     paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
     paste_channels(region, shading.data(), 3, layers.shading.data(), w, h);
     paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(), w, h);

@@ -10,7 +10,9 @@
 #include "core/backend/backend.h"
 #include "libs/face/face_crops.h"
 #include "libs/face/face_detector.h"
+#include "libs/face/guided_paste.h"
 #include "libs/face/paste_back.h"
+#include "libs/image/crop_framing.h"
 #include "libs/inference/batched_decomposition.h"
 #include "libs/inference/decomposer.h"
 #include "core/sh/sh_types.h"
@@ -26,6 +28,10 @@ struct PhotoInferOptions {
   std::string cnn_model = kDefaultCnnFaceModel;  // --cnn-model
   bool extend_forehead = false;  // --forehead
   double feather = 3.0;          // --feather, crop pixels
+  // --upsample: albedo and normals pasted back guided by the photo (the default) or bilinear.
+  Upsample upsample = Upsample::kGuided;
+  // The framing the model was trained at (its weights' "framing" metadata; v1 by default).
+  CropFraming framing;
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
   bool contact_sheet = true;
   int batch = 8;
@@ -36,8 +42,9 @@ struct PhotoInferOptions {
 // recursive). Throws facetool::Error for a path that is neither.
 std::vector<std::string> expand_photo_inputs(const std::vector<std::string>& inputs);
 
-// Detection and alignment: each face of `photo` (linear RGB) cropped to crop_size, best detection
-// score first (empty: no face). PhotoDecomposer's first step; prepare-real's whole job.
+// Detection and alignment: each face of `photo` (linear RGB) cropped to crop_size at
+// options.framing, best detection score first (empty: no face). PhotoDecomposer's first step;
+// prepare-real's whole job.
 std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& photo, int crop_size,
                                       const PhotoInferOptions& options);
 
@@ -116,9 +123,12 @@ class PhotoDecomposer {
 
 // The part of decompose() after the network: paste regions, the photo-frame layers, the
 // estimated shading at the photo's resolution and each face's light turned into the photo's
-// frame. `decomposition` holds one face per crop (the tests give synthetic ones).
+// frame. `decomposition` holds one face per crop (the tests give synthetic ones). With
+// Upsample::kGuided, albedo and normals go through paste_channels_guided (guided_paste.h);
+// everything else, and everything with kBilinear, through paste_channels.
 DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
-                                          const Decomposition& decomposition, double feather);
+                                          const Decomposition& decomposition, double feather,
+                                          Upsample upsample = Upsample::kBilinear);
 
 // Face k's crop-level planes of `d`: `channels` planes of S*S from the array `all` ([N][C][S][S]).
 std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size);

@@ -60,6 +60,9 @@ std::string describe_generator_settings(const SampleGenerator& generator) {
     for (const auto& [name, weight] : s.shape.fixed_expressions) out << " " << name << "=" << weight;
     out << "\n";
   }
+  // Only when not v1's: older runs' settings text (and fingerprint) is unchanged.
+  if (s.camera.framing != CropFraming{}) out << "framing " << framing_text(s.camera.framing) << "\n";
+  if (s.photo_edges.fraction > 0) out << "photo edges in " << s.photo_edges.fraction << " of the samples\n";
   out << "light rotate " << s.light.rotate << ", max tilt " << s.light.max_tilt_deg
       << ", colour jitter " << s.light.color_jitter << ", peak " << s.light.min_peak << ".."
       << s.light.max_peak << "\n"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "libs/image/border_fill.h"
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/generator_settings.h"
 #include "libs/synth/ray_scene.h"
@@ -30,7 +31,7 @@ class DenormalModeGuard {
 };
 
 // Sub-streams of a sample's seed: changing how one part draws never shifts the others.
-enum Stream : uint64_t { kShape = 1, kAlbedo, kPose, kCamera, kLight, kBackground };
+enum Stream : uint64_t { kShape = 1, kAlbedo, kPose, kCamera, kLight, kBackground, kPhotoEdge };
 
 const FaceMesh& reference_mesh(const FaceSource& faces) {
   check((faces.model != nullptr) != (faces.mesh != nullptr),
@@ -102,6 +103,11 @@ SampleGenerator::SampleGenerator(FaceSource faces, std::vector<LightSource> ligh
   check(renderer_ != nullptr, "SampleGenerator: no renderer");
   check(settings_.camera.width > 0 && settings_.camera.height > 0, "image size must be positive, got ",
         settings_.camera.width, "x", settings_.camera.height);
+  check(settings_.photo_edges.fraction >= 0 && settings_.photo_edges.fraction <= 1,
+        "the fraction of samples with a photo edge must be in [0, 1], got ", settings_.photo_edges.fraction);
+  check(settings_.photo_edges.fraction == 0 || settings_.camera.framing.border == BorderFill::kRingMean,
+        "simulated photo edges need a framing with the ring-mean border fill (the fill they ",
+        "reproduce); the framing is '", framing_text(settings_.camera.framing), "'");
   settings_description_ = describe_generator_settings(*this);
   settings_fingerprint_ = facetool::settings_fingerprint(settings_description_);
 }
@@ -205,6 +211,19 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   for (size_t p = 0; p < plane; ++p)
     if (!g.head[p])
       for (int c = 0; c < 3; ++c) s.image[c * plane + p] = background[c * plane + p];
+
+  // A photo edge across the crop: beyond it the fill and the mask of a real photo's crop.
+  if (settings_.photo_edges.fraction > 0) {
+    Random edge_random = stream(kPhotoEdge);
+    const PhotoEdges edges = sample_photo_edges(edge_random, settings_.photo_edges);
+    s.photo_edges = edges.count;
+    if (edges.count > 0) {
+      const std::vector<float> coverage = photo_edge_coverage(edges, s.width, s.height);
+      fill_outside_photo(s.image, coverage, s.width, s.height);
+      cut_mask_outside_photo(s.mask, coverage);
+    }
+  }
+  if (settings_.camera.framing != CropFraming{}) s.framing = framing_text(settings_.camera.framing);
   s.seconds_shading = since(shading_start);
   return s;
 }

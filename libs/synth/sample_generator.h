@@ -10,6 +10,7 @@
 #include "libs/synth/component_renderer.h"
 #include "libs/synth/face_model.h"
 #include "libs/synth/light_source.h"
+#include "libs/synth/photo_edge.h"
 #include "libs/synth/pose_camera.h"
 #include "libs/synth/synth_sample.h"
 #include "libs/synth/visibility.h"
@@ -28,6 +29,9 @@ struct SynthSettings {
   // Visibility is cast only inside the mask dilated by one pixel (0 elsewhere). True casts it for
   // every head pixel, as before the face-region mask (for tests and comparisons; ~2x slower).
   bool visibility_on_whole_head = false;
+  // Simulated photo edges (photo_edge.h): beyond them the image gets camera.framing's border fill
+  // and the mask is cut, as alignment does for a real photo; needs the ring-mean border fill.
+  PhotoEdgeSampling photo_edges;
 };
 
 // Where faces come from: random ICT Face Model shapes, or one fixed mesh (--mesh).

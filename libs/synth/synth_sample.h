@@ -36,6 +36,8 @@ struct SynthSample {
   std::string light_source;       // file the light came from
   std::string shape;              // "identity[...] expressions[name=weight ...]" for people
   std::string settings;           // fingerprint of the generator settings (generator_settings.h)
+  std::string framing;            // framing_text of the camera's framing; "" for v1's
+  int photo_edges = 0;            // simulated photo edges crossing the crop (0, 1 or 2)
   int64_t rays_cast = 0;          // visibility rays (not stored)
   // Where the time went, in thread CPU seconds (not stored): shape + pose + BVH + primary rays, visibility rays,
   // albedo + light + rendering + background.

@@ -257,6 +257,10 @@ StepRecord Trainer::step() {
             "source '", source->config->name, "' holds ", source->reader->width(), "x",
             source->reader->height(), " samples but the network takes ", config_.input_size, "x",
             config_.input_size, "; set network.input_size in '", config_.path, "'");
+      const CropFraming framing = parse_framing(source->reader->framing(), "source '" + source->config->name + "'");
+      check(framing == config_.framing, "source '", source->config->name, "' holds samples framed '",
+            framing_text(framing), "' but network.framing in '", config_.path, "' is '",
+            framing_text(config_.framing), "'; make the samples with the same --framing or set network.framing");
     }
     const bool parallel = comm_->size() > 1;
     SyntheticBatch batch = source->reader->next();

@@ -85,11 +85,13 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   c.name = r.text(root, "the file", "name", "", true);
   if (root.contains("network")) {
     const json& n = root.at("network");
-    r.only_keys(n, "network", {"plugin", "width", "input_size"});
+    r.only_keys(n, "network", {"plugin", "width", "input_size", "framing"});
     c.network = r.text(n, "network", "plugin", c.network, false);
     c.width = static_cast<int>(r.integer(n, "network", "width", c.width, false, 2, 4096));
     c.input_size =
         static_cast<int>(r.integer(n, "network", "input_size", c.input_size, false, 2, 4096));
+    c.framing = parse_framing(r.text(n, "network", "framing", "v1", false),
+                              "training config '" + path + "': network.framing");
   }
   c.renderer = r.text(root, "the file", "renderer", c.renderer, false);
   const json& o = root.contains("optimizer") ? root.at("optimizer") : json::object();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/plugin/loss_plugin.h"
+#include "libs/image/crop_framing.h"
 
 namespace facetool {
 
@@ -30,6 +31,9 @@ struct TrainingConfig {
   std::string name;
   std::string network = "paper_network";
   int width = 128, input_size = 128;
+  // network.framing: how the samples' crops are framed ("v1", "v2" or framing_text's form);
+  // written into the weights (libs/model/network_weights.h) so infer frames photos the same way.
+  CropFraming framing;
   std::string renderer = "sh_renderer";
   double learning_rate = 1e-4, beta1 = 0.9, beta2 = 0.999, epsilon = 1e-8;
   int64_t steps = 1000;

@@ -107,7 +107,7 @@ void TrainingRun::save_all() {
                        static_cast<uint64_t>(trainer_.parameter_count()) * 6 * sizeof(float),
                        [&] {
                          trainer_.save(checkpoint_);
-                         save_network_weights(trainer_.network(), config_.network, weights_);
+                         save_network_weights(trainer_.network(), config_.network, weights_, config_.framing);
                          write_loss_curve(curve_, points_);
                        });
 }

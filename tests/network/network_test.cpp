@@ -225,6 +225,12 @@ TEST(PaperNetwork, WeightsRoundTripAndMismatchErrors) {
   EXPECT_EQ(header.architecture, "paper_network");
   EXPECT_EQ(header.config.width, 8);
   EXPECT_EQ(header.config.input_size, 16);
+  // v1's framing is not written (files stay as before) and reads back as v1; another is kept.
+  EXPECT_EQ(file.metadata().count("framing"), 0u);
+  EXPECT_EQ(header.framing, CropFraming{});
+  const std::string framed = (dir / "framed.safetensors").string();
+  save_network_weights(*net, "paper_network", framed, v2_framing());
+  EXPECT_EQ(read_weights_header(SafeTensors::read_file(framed), framed).framing, v2_framing());
   auto copy = make_network(be, header.config, 999);
   load_network_weights(*copy, file, path);
   ag::Variable images(random_tensor(be, Shape{1, 3, 16, 16}, 7, 0.0f, 1.0f));

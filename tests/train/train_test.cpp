@@ -149,6 +149,24 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
   }
 }
 
+// network.framing must be the samples' framing (their facetool:framing; none is v1): training a
+// v2 model on v1 samples stops before the first step, naming both.
+TEST_F(TrainTest, FramingOfTheConfigurationAndTheSamplesMustAgree) {
+  Backend& be = get_backend("cpu");
+  TrainingConfig c = config(data->path());
+  EXPECT_EQ(c.framing, CropFraming{});
+  EXPECT_EQ(read_training_sample_framing(DatasetReader(be, {data->path(), 4}).files()[0]), "v1");
+  c.framing = v2_framing();
+  const std::string message = error_of([&] { trainer(be, c)->step(); });
+  EXPECT_TRUE(has(message, "framed 'zoom 1 centre 0.5 0.5 border edge-repeat'") &&
+              has(message, "network.framing") && has(message, "zoom 1.6")) << message;
+  const std::string base =
+      R"({"name": "x", "steps": 1, "sources": [{"name": "s", "directory": "d", "terms": {"albedo": 1}}], "network": {"framing": )";
+  EXPECT_EQ(parse_training_config(base + R"("v2"}})", "f.json").framing, v2_framing());
+  const std::string bad = error_of([&] { parse_training_config(base + R"("v3"}})", "f.json"); });
+  EXPECT_TRUE(has(bad, "f.json") && has(bad, "network.framing") && has(bad, "v3")) << bad;
+}
+
 TEST_F(TrainTest, HeldOutSplitIsBySampleIndex) {
   Backend& be = get_backend("cpu");
   DatasetReaderOptions o;

@@ -133,6 +133,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
 
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
+  photo_options.framing = loaded.framing;  // crops framed as the model was trained
   NetworkPlugin* network = loaded.network.get();
   const std::string& architecture = loaded.architecture;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,

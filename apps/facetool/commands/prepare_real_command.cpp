@@ -95,7 +95,8 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   options.add_options()
       ("output,o", po::value<std::string>(), "output folder (sample_XXXXXXXX.exr, manifest.tsv)")
       ("size", po::value<int>()->default_value(128), "crop size, pixels (the network's input)")
-      ("max-edge-cut", po::value<double>()->default_value(0.05), "skip a face when more than this fraction of its mask lies outside the photo");
+      ("max-edge-cut", po::value<double>()->default_value(0.05), "skip a face when more than this fraction of its mask lies outside the photo")
+      ("framing", po::value<std::string>()->default_value("v1"), "crop framing: v1, v2, or 'zoom Z centre X Y border edge-repeat|ring-mean' (the model's; docs/photos.md, \"Framing\")");
   add_photo_detection_options(options);
   po::options_description hidden;
   hidden.add_options()("inputs", po::value<std::vector<std::string>>(), "photo folders");
@@ -124,6 +125,7 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   const double max_cut = values["max-edge-cut"].as<double>();
   PhotoInferOptions photo = photo_options_from(values);
   photo.detection.max_faces = 1;
+  photo.framing = parse_framing(values["framing"].as<std::string>(), "--framing");
   const std::string out = values["output"].as<std::string>();
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -142,6 +144,7 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   settings_line << "# facetool prepare-real manifest: generator " << kRealSampleVersion
                 << ", size " << size
                 << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull");
+  if (photo.framing != CropFraming{}) settings_line << ", framing " << framing_text(photo.framing);
   const std::string settings = settings_line.str();
   // A rerun keeps the samples already there only when they were made with these settings.
   const std::string manifest_path = (fs::path(out) / "manifest.tsv").string();
@@ -198,7 +201,7 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
         if (cut > max_cut) {
           reason = "face cut by the photo's edge (" + std::to_string(static_cast<int>(cut * 100)) + "% of its mask outside)";
         } else {
-          write_exr_atomically(path, real_sample_image(crop, p.source, photo.extend_forehead));
+          write_exr_atomically(path, real_sample_image(crop, p.source, photo.extend_forehead, photo.framing));
           manifest << name << "\t" << clean(p.source) << "\twritten\tscore " << crop.face.score << "\n";
           ++written;
         }

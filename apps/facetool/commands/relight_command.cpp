@@ -150,6 +150,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
 
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
+  photo_options.framing = loaded.framing;  // crops framed as the model was trained
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;

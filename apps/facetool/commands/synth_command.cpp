@@ -61,6 +61,12 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
       ("threads", po::value(&threads)->value_name("T")->default_value(threads),
        "worker threads (output does not depend on it)")
       ("size", po::value(&size)->value_name("N|WxH")->default_value("128"), "image size")
+      ("framing", po::value<std::string>()->default_value("v1"),
+       "how the face is framed: v1, v2, or 'zoom Z centre X Y border edge-repeat|ring-mean' "
+       "(the same as the model's and prepare-real's; docs/synthetic-data.md, \"Framing\")")
+      ("photo-edges", po::value(&settings.photo_edges.fraction)->default_value(0.0),
+       "fraction of the samples crossed by a simulated photo edge, filled beyond it as "
+       "alignment fills crops beyond a real photo (needs the ring-mean border fill)")
       ("directions", po::value(&settings.direction_count)->default_value(872),
        "visibility directions per pixel")
       ("identity-truncation", po::value(&settings.shape.identity_truncation)->default_value(2.5),
@@ -100,13 +106,17 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
                                {"directions", 1, 100000},
                                {"identity-truncation", Random::kMinTruncation, 100},
                                {"max-expressions", 0, 1000},
-                               {"contact-sheet-rows", 1, 10000}});
+                               {"contact-sheet-rows", 1, 10000},
+                               {"photo-edges", 0, 1}});
   check_output_option(values, "synth", "an output folder with -o DIR");
   if (face_model.empty() == mesh.empty())
     throw UsageError(face_model.empty()
                          ? std::string("give --face-model DIR or --mesh FILE.obj: ") + kIctFaceKitHint
                          : "give either --face-model or --mesh, not both");
   parse_size(size, settings.camera.width, settings.camera.height);
+  settings.camera.framing = parse_framing(values["framing"].as<std::string>(), "synth: --framing");
+  if (settings.photo_edges.fraction > 0 && settings.camera.framing.border != BorderFill::kRingMean)
+    throw UsageError("synth: --photo-edges needs a --framing with the ring-mean border fill (e.g. v2)");
   SynthRunOptions run;
   parse_shard(shard, run.shard_index, run.shard_count);
   run.output_dir = out;

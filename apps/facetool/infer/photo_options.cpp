@@ -25,6 +25,7 @@ void add_photo_infer_options(po::options_description& options) {
   add_photo_detection_options(options);
   options.add_options()
       ("feather", po::value<double>()->default_value(3.0), "width of the blend at the mask's edge, crop pixels")
+      ("upsample", po::value<std::string>()->default_value("guided"), "albedo and normals at the photo's resolution: guided (guided filter with the photo as guide) or bilinear (docs/photos.md)")
       ("transparent", "photo-level PNGs transparent outside the faces (default: the input photo there)");
 }
 
@@ -49,6 +50,12 @@ PhotoInferOptions photo_options_from(const po::variables_map& values) {
   o.detection.padding = values["pad"].as<double>();
   o.extend_forehead = values.count("forehead") > 0;
   if (values.count("feather")) o.feather = values["feather"].as<double>();
+  if (values.count("upsample")) {
+    const std::string upsample = values["upsample"].as<std::string>();
+    if (upsample == "guided") o.upsample = Upsample::kGuided;
+    else if (upsample == "bilinear") o.upsample = Upsample::kBilinear;
+    else fail("--upsample must be guided or bilinear, not '", upsample, "'");
+  }
   o.transparent = values.count("transparent") > 0;
   if (o.detection.max_faces < 0) fail("--max-faces must be 0 (all) or more");
   if (o.detection.min_face_size < 0) fail("--min-face-size must be 0 (automatic) or more");
