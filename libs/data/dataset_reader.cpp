@@ -62,9 +62,19 @@ DatasetReader::DatasetReader(Backend& backend, DatasetReaderOptions options)
           want_validation ? "validation" : "training", " part (every ", options_.holdout_every,
           "th sample index is held out); add samples or change the split");
   }
+  // Too few for one batch: say which part of the split ran short, and what to change.
+  const bool split = options_.holdout_every > 0 && options_.part != DatasetReaderOptions::Part::kAll;
+  std::string part;
+  if (split && options_.part == DatasetReaderOptions::Part::kValidation)
+    part = " in its validation part (the sample indices divisible by " +
+           std::to_string(options_.holdout_every) + ")";
+  else if (split)
+    part = " in its training part";
   check(files_.size() >= static_cast<size_t>(options_.batch_size), "dataset folder '",
-        options_.directory, "' holds ", files_.size(), " samples, fewer than one batch of ",
-        options_.batch_size);
+        options_.directory, "' holds ", files_.size(), " samples", part,
+        ", fewer than one batch of ", options_.batch_size,
+        split ? "; add samples, or change the batch or the split (validation.holdout_every)"
+              : "; add samples or use a smaller batch");
   read_training_sample_size(files_[0], width_, height_);
   framing_ = read_training_sample_framing(files_[0]);
   worker_ = std::thread([this] { produce(); });

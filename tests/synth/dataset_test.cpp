@@ -91,6 +91,34 @@ TEST_F(DatasetReaderTest, EachEpochVisitsEverySampleOnceInASeededOrder) {
             std::vector<std::string>(order_a.begin() + 6, order_a.end()));
 }
 
+// Too few samples for one batch: the message says which part of the split ran short (7
+// samples, every 3rd index held out: indices 0, 3 and 6 validate, so 3 rows, not 4).
+TEST_F(DatasetReaderTest, TooFewSamplesNamesThePartOfTheSplit) {
+  DatasetReaderOptions options;
+  options.directory = data->path();
+  options.batch_size = 4;
+  options.holdout_every = 3;
+  options.part = DatasetReaderOptions::Part::kValidation;
+  try {
+    DatasetReader reader(get_backend("cpu"), options);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("holds 3 samples in its validation part (the sample indices divisible by 3), "
+                           "fewer than one batch of 4"), std::string::npos) << message;
+    EXPECT_NE(message.find("validation.holdout_every"), std::string::npos) << message;
+  }
+  options.part = DatasetReaderOptions::Part::kAll;
+  options.batch_size = 8;
+  try {
+    DatasetReader reader(get_backend("cpu"), options);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds 7 samples, fewer than one batch of 8; add samples"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(DatasetReaderErrors, EmptyOrMissingFolder) {
   testing::ScratchDir empty("synth-dataset-empty");
   DatasetReaderOptions options;
