@@ -33,46 +33,16 @@ TRIAL_WIDTHS="16 32 64"  # widths compared for the same wall time
 TRIAL_MINUTES=15         # wall time of the width trials (side by side, one thread each)
 TRIAL_SAMPLES=8000       # the trials train on the samples 0..TRIAL_SAMPLES-1 (more than they reach)
 HELDOUT_LIGHTS="quarry_01_1k.hdr sunrise.exr sunset.exr"  # never seen in training
-REAL_HELDOUT_EVERY=10    # the 10th, 20th, ... photo of the sorted UTKFace list is held out
 
-STUDIO_LIGHTS=/usr/share/blender/datafiles/studiolights/world
-FACE_MODEL=$SHARED/assets/ict-facekit/FaceXModel
-UTKFACE=$SHARED/assets/faces/utkface-crop-part1
+ALL_STEPS="lights synth real width-trials stage1 pseudo stage2 eval figures ship"
 
-die() { echo "train-model: $*" >&2; exit 1; }
-[ -x "$FACETOOL" ] || die "$FACETOOL not found: build first (bash scripts/build.sh) or set FACETOOL"
-[ -d "$FACE_MODEL" ] || die "$FACE_MODEL not found: set SHARED to the folder holding assets/"
-[ -d "$UTKFACE" ] || die "$UTKFACE not found: set SHARED to the folder holding assets/"
-[ -d "$STUDIO_LIGHTS" ] || die "$STUDIO_LIGHTS not found: apt-get install blender-data"
-mkdir -p "$WORK/done"
+# shellcheck source=scripts/lib/train-steps.sh
+source scripts/lib/train-steps.sh
+check_inputs
 
-# Runs step NAME (the function step_NAME) unless it is done, and records its wall time.
-run_step() {
-  local name=$1
-  if [ -e "$WORK/done/$name" ]; then echo "== $name: done earlier (remove $WORK/done/$name to redo)"; return; fi
-  echo "== $name ($(date -u +%H:%M:%S) UTC)"
-  local start=$SECONDS
-  "step_$name"
-  local seconds=$((SECONDS - start))
-  printf '%s\t%d\t%s\t%s\n' "$name" "$seconds" "$(date -u +%FT%TZ)" \
-    "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | xargs) x $(nproc)" >> "$WORK/timings.tsv"
-  touch "$WORK/done/$name"
-  echo "== $name: ${seconds} s"
-}
 
 # Training lights: the HDRIs of SHARED and blender-data except the held-out ones.
-step_lights() {
-  rm -rf "$WORK/lights" && mkdir -p "$WORK/lights/train" "$WORK/lights/heldout"
-  local f name
-  for f in "$SHARED"/assets/hdri/*.hdr "$STUDIO_LIGHTS"/*.exr; do
-    name=$(basename "$f")
-    if [[ " $HELDOUT_LIGHTS " == *" $name "* ]]; then
-      ln -s "$(realpath "$f")" "$WORK/lights/heldout/$name"
-    else
-      ln -s "$(realpath "$f")" "$WORK/lights/train/$name"
-    fi
-  done
-}
+step_lights() { split_lights; }
 
 # Synthetic samples. Every sample draws a new identity from the face model, so the held-out
 # seed's identities are unseen; its lights are the held-out ones.
@@ -85,16 +55,7 @@ step_synth() {
 
 # Real photos: aligned crops with masks (prepare-real), split by the documented rule.
 step_real() {
-  rm -rf "$WORK/utkface" && mkdir -p "$WORK/utkface/train" "$WORK/utkface/heldout"
-  local k=0 f
-  while IFS= read -r f; do
-    k=$((k + 1))
-    if [ $((k % REAL_HELDOUT_EVERY)) -eq 0 ]; then
-      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/heldout/$f"
-    else
-      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/train/$f"
-    fi
-  done < <(ls "$UTKFACE" | LC_ALL=C sort)
+  split_utkface
   "$FACETOOL" prepare-real "$WORK/utkface/train" --size "$SIZE" -o "$WORK/real"
   "$FACETOOL" prepare-real "$WORK/utkface/heldout" --size "$SIZE" -o "$WORK/real-heldout"
 }
@@ -107,22 +68,6 @@ write_stage1_config() {
     configs/facetool-v1-stage1.json > "$path"
 }
 
-# Trains RUN with CONFIG (resuming its checkpoint when there is one), within SITTING_MINUTES.
-train_run() {
-  local config=$1 run=$2; shift 2
-  local limit=()
-  [ -n "${SITTING_MINUTES:-}" ] && limit=(--time-limit "$SITTING_MINUTES")
-  if [ -e "$run/checkpoint.safetensors" ]; then
-    "$FACETOOL" train --config "$config" --out "$run" --resume "${limit[@]}"
-  else
-    "$FACETOOL" train --config "$config" --out "$run" "$@" "${limit[@]}"
-  fi
-  # The run is complete when its log reaches the configuration's step count.
-  local want have
-  want=$(grep -o '"steps": *[0-9]*' "$config" | grep -o '[0-9]*$')
-  have=$(grep -c '"total"' "$run/log.jsonl" || true)
-  [ "$have" -ge "$want" ] || die "$run stopped at step $have of $want; run the same command again to continue"
-}
 
 # Width trials: the widths train side by side, one thread each, for the same wall time (so that
 # whatever else the machine does slows them alike); the held-out normal error decides.
@@ -229,9 +174,4 @@ step_ship() {
   sha256sum models/facetool-v1.safetensors
 }
 
-steps=("$@")
-[ ${#steps[@]} -eq 0 ] && steps=(lights synth real width-trials stage1 pseudo stage2 eval figures ship)
-for s in "${steps[@]}"; do
-  declare -F "step_$s" > /dev/null || die "unknown step '$s' (lights synth real width-trials stage1 pseudo stage2 eval figures ship)"
-  run_step "$s"
-done
+run_steps "$@"

@@ -136,7 +136,9 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
             }),
             "");
   // The shipped configurations parse and name only known terms with the paper's weights.
-  for (const char* name : {"paper-stage1.json", "paper-stage2.json", "smoke.json"}) {
+  for (const char* name : {"paper-stage1.json", "paper-stage2.json", "smoke.json",
+                           "facetool-v1-stage1.json", "facetool-v1-stage2.json",
+                           "facetool-v2-stage1.json", "facetool-v2-stage2.json"}) {
     const TrainingConfig c = read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name);
     EXPECT_EQ(error_of([&] { check_terms(c, paper_terms()); }), "") << name;
     EXPECT_EQ(c.sources[0].terms.size(), 8u) << name;
@@ -147,6 +149,10 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
       EXPECT_EQ(t.weight, expected) << name << " " << t.name;
     }
   }
+  // v2 is trained at its framing (docs/photos.md, "Framing"), both stages alike.
+  for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json"})
+    EXPECT_EQ(read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).framing,
+              v2_framing()) << name;
 }
 
 // network.framing must be the samples' framing (their facetool:framing; none is v1): training a

@@ -1,0 +1,88 @@
+# Shared by scripts/train-model.sh (v1) and scripts/train-model-v2.sh: resumable steps with
+# recorded wall times, training runs that resume their checkpoint, and the held-out rules for
+# lights and UTKFace photos. Sourced; expects FACETOOL, WORK, SHARED and HELDOUT_LIGHTS.
+
+STUDIO_LIGHTS=/usr/share/blender/datafiles/studiolights/world
+FACE_MODEL=$SHARED/assets/ict-facekit/FaceXModel
+UTKFACE=$SHARED/assets/faces/utkface-crop-part1
+REAL_HELDOUT_EVERY=10    # the 10th, 20th, ... photo of the sorted UTKFace list is held out
+
+die() { echo "$(basename "$0" .sh): $*" >&2; exit 1; }
+
+check_inputs() {
+  [ -x "$FACETOOL" ] || die "$FACETOOL not found: build first (bash scripts/build.sh) or set FACETOOL"
+  [ -d "$FACE_MODEL" ] || die "$FACE_MODEL not found: set SHARED to the folder holding assets/"
+  [ -d "$UTKFACE" ] || die "$UTKFACE not found: set SHARED to the folder holding assets/"
+  [ -d "$STUDIO_LIGHTS" ] || die "$STUDIO_LIGHTS not found: apt-get install blender-data"
+  mkdir -p "$WORK/done"
+}
+
+# Runs step NAME (the function step_NAME) unless it is done, and records its wall time.
+run_step() {
+  local name=$1
+  if [ -e "$WORK/done/$name" ]; then echo "== $name: done earlier (remove $WORK/done/$name to redo)"; return; fi
+  echo "== $name ($(date -u +%H:%M:%S) UTC)"
+  local start=$SECONDS
+  "step_$name"
+  local seconds=$((SECONDS - start))
+  printf '%s\t%d\t%s\t%s\n' "$name" "$seconds" "$(date -u +%FT%TZ)" \
+    "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | xargs) x $(nproc)" >> "$WORK/timings.tsv"
+  touch "$WORK/done/$name"
+  echo "== $name: ${seconds} s"
+}
+
+# Runs the steps named on the command line, or all of ALL_STEPS, in order.
+run_steps() {
+  local steps=("$@") s
+  [ ${#steps[@]} -eq 0 ] && read -r -a steps <<< "$ALL_STEPS"
+  for s in "${steps[@]}"; do
+    declare -F "step_$s" > /dev/null || die "unknown step '$s' ($ALL_STEPS)"
+    run_step "$s"
+  done
+}
+
+# The light folders: links to the HDRIs and Blender's studio worlds, HELDOUT_LIGHTS apart.
+split_lights() {
+  rm -rf "$WORK/lights" && mkdir -p "$WORK/lights/train" "$WORK/lights/heldout"
+  local f name
+  for f in "$SHARED"/assets/hdri/*.hdr "$STUDIO_LIGHTS"/*.exr; do
+    name=$(basename "$f")
+    if [[ " $HELDOUT_LIGHTS " == *" $name "* ]]; then
+      ln -s "$(realpath "$f")" "$WORK/lights/heldout/$name"
+    else
+      ln -s "$(realpath "$f")" "$WORK/lights/train/$name"
+    fi
+  done
+}
+
+# Links to the UTKFace photos in $WORK/utkface/{train,heldout} by the held-out rule (the first
+# UTK_LIMIT photos of the sorted list when it is set, for trial runs).
+split_utkface() {
+  rm -rf "$WORK/utkface" && mkdir -p "$WORK/utkface/train" "$WORK/utkface/heldout"
+  local k=0 f
+  while IFS= read -r f; do
+    k=$((k + 1))
+    if [ $((k % REAL_HELDOUT_EVERY)) -eq 0 ]; then
+      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/heldout/$f"
+    else
+      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/train/$f"
+    fi
+  done < <(ls "$UTKFACE" | LC_ALL=C sort | head -n "${UTK_LIMIT:-1000000}")
+}
+
+# Trains RUN with CONFIG (resuming its checkpoint when there is one), within SITTING_MINUTES.
+train_run() {
+  local config=$1 run=$2; shift 2
+  local limit=()
+  [ -n "${SITTING_MINUTES:-}" ] && limit=(--time-limit "$SITTING_MINUTES")
+  if [ -e "$run/checkpoint.safetensors" ]; then
+    "$FACETOOL" train --config "$config" --out "$run" --resume "${limit[@]}"
+  else
+    "$FACETOOL" train --config "$config" --out "$run" "$@" "${limit[@]}"
+  fi
+  # The run is complete when its log reaches the configuration's step count.
+  local want have
+  want=$(grep -o '"steps": *[0-9]*' "$config" | grep -o '[0-9]*$')
+  have=$(grep -c '"total"' "$run/log.jsonl" || true)
+  [ "$have" -ge "$want" ] || die "$run stopped at step $have of $want; run the same command again to continue"
+}
