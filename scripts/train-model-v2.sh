@@ -93,15 +93,12 @@ step_stage2() {
   train_run "$WORK/stage2.json" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
 }
 
-# Held-out figures of both stages: synthetic (Table 1 form) and real (PSNR, SSIM, per group;
-# normals against the fit's).
+# Held-out figures of both stages: synthetic (Table 1 form) and real (PSNR, SSIM, and the
+# normals against the fit's labels).
 step_eval() {
   local stage
   for stage in stage1 stage2; do
-    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/synthetic-heldout" \
-      -o "$WORK/eval/$stage-synthetic" --contact-sheet
-    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/real-fit-heldout" \
-      -o "$WORK/eval/$stage-real" --contact-sheet
+    eval_stage "$stage" "$WORK/synthetic-heldout" "$WORK/real-fit-heldout"
   done
 }
 

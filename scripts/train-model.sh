@@ -130,10 +130,7 @@ step_stage2() {
 step_eval() {
   local stage
   for stage in stage1 stage2; do
-    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/synthetic-heldout" \
-      -o "$WORK/eval/$stage-synthetic" --contact-sheet
-    "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$WORK/real-heldout" \
-      -o "$WORK/eval/$stage-real" --contact-sheet
+    eval_stage "$stage" "$WORK/synthetic-heldout" "$WORK/real-heldout"
     python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
       "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
     cat "$WORK/eval/$stage-real/groups.md"

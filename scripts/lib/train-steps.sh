@@ -86,3 +86,13 @@ train_run() {
   have=$(grep -c '"total"' "$run/log.jsonl" || true)
   [ "$have" -ge "$want" ] || die "$run stopped at step $have of $want; run the same command again to continue"
 }
+
+# Held-out figures of one training stage: `eval` on the synthetic and the real held-out data,
+# into $WORK/eval/STAGE-synthetic and $WORK/eval/STAGE-real, with contact sheets.
+eval_stage() {
+  local stage=$1 synthetic=$2 real=$3
+  "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$synthetic" \
+    -o "$WORK/eval/$stage-synthetic" --contact-sheet
+  "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$real" \
+    -o "$WORK/eval/$stage-real" --contact-sheet
+}
