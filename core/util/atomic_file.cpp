@@ -2,6 +2,7 @@
 #include "core/util/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -162,18 +163,20 @@ void WriteBatch::commit() {
   StageTimer timer("fsync");
   size_t renamed = 0;
   try {
-    if (!files->empty()) {
-      // One flush of the file system holding the temporaries (all in the folders of one run).
-      const int fd = ::open(folder_of(files->front().temporary).c_str(),
-                            O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    // One flush per file system holding temporaries (one, unless a folder is a mount point).
+    std::vector<dev_t> flushed;
+    for (const PendingFile& file : *files) {
+      const int fd = ::open(folder_of(file.temporary).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
       int error = fd < 0 ? errno : 0;
-      if (fd >= 0) {
+      struct stat status {};
+      if (fd >= 0 && ::fstat(fd, &status) == 0 &&
+          std::find(flushed.begin(), flushed.end(), status.st_dev) == flushed.end()) {
         if (::syncfs(fd) != 0) error = errno;
-        ::close(fd);
+        flushed.push_back(status.st_dev);
       }
+      if (fd >= 0) ::close(fd);
       if (error != 0)
-        fail("cannot write '", files->front().path, "': ", std::strerror(error),
-             write_failure_advice(error));
+        fail("cannot write '", file.path, "': ", std::strerror(error), write_failure_advice(error));
     }
     std::vector<std::string> folders;
     for (; renamed < files->size(); ++renamed) {

@@ -33,8 +33,8 @@ void write_files_atomically(const std::vector<FileContents>& files);
 
 // Files written together, made durable together. While a WriteBatch is open on a thread, every
 // atomic write of that thread (write_atomically and what is built on it) leaves its finished
-// temporary unsynced and unrenamed; commit() then makes all of them durable with one syncfs of
-// their file system, renames them over their final paths and fsyncs each folder once: one
+// temporary unsynced and unrenamed; commit() then makes all of them durable with one syncfs per
+// file system they are on, renames them over their final paths and fsyncs each folder once: one
 // flush for a photo's ~20 files instead of two per file. Destroyed without commit() (a write
 // failed), it removes the temporaries and no final path is touched. A batch opened while
 // another is open on the thread joins the outer one (its commit() does nothing).
