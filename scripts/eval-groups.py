@@ -7,7 +7,8 @@ per_image.csv is what `facetool eval` writes for a folder of real samples; manif
 `facetool prepare-real` wrote for that folder (sample file -> source photo). UTKFace names a photo
 AGE_GENDER_RACE_DATE.jpg.chip.jpg (gender 0 male, 1 female; race 0 White, 1 Black, 2 Asian,
 3 Indian, 4 other). The race label is the only skin-tone proxy the set carries. Prints Markdown:
-one table per grouping with images, mean PSNR, its difference to the overall mean, and mean SSIM.
+one table per grouping with images, mean PSNR, its difference to the overall mean, mean SSIM and
+the mean PSNR of the blurred photo (eval's --blur-sigma baseline; "-" from an older eval).
 """
 import csv
 import math
@@ -59,21 +60,24 @@ def main():
         for row in csv.DictReader(f):
             photo = sources.get(row["file"])
             psnr, ssim = float(row["psnr_db"]), float(row["ssim"])
+            blurred = float(row.get("blurred_psnr_db") or "nan")
             if photo is None or not (math.isfinite(psnr) and math.isfinite(ssim)):
                 continue
             group = labels(photo)
             if group is not None:
-                rows.append((group, psnr, ssim))
+                rows.append((group, psnr, ssim, blurred))
     if not rows:
         sys.exit(f"eval-groups: no row of {per_image} matches a labelled photo of {manifest}")
     overall = sum(r[1] for r in rows) / len(rows)
     print(f"Held-out real photos: {len(rows)}, mean PSNR {overall:.2f} dB, "
-          f"mean SSIM {sum(r[2] for r in rows) / len(rows):.4f}\n")
+          f"mean SSIM {sum(r[2] for r in rows) / len(rows):.4f}, "
+          f"blurred photo's mean PSNR {sum(r[3] for r in rows) / len(rows):.2f} dB\n")
     for grouping in ("race label", "age", "gender"):
         groups = {}
-        for group, psnr, ssim in rows:
-            groups.setdefault(group[grouping], []).append((psnr, ssim))
-        print(f"| {grouping} | images | PSNR (dB) | vs mean | SSIM |\n| --- | --- | --- | --- | --- |")
+        for group, psnr, ssim, blurred in rows:
+            groups.setdefault(group[grouping], []).append((psnr, ssim, blurred))
+        print(f"| {grouping} | images | PSNR (dB) | vs mean | SSIM | blurred photo's PSNR (dB) |\n"
+              "| --- | --- | --- | --- | --- | --- |")
         order = {"race label": RACES, "gender": GENDERS}.get(grouping)
         names = order if order else sorted(groups, key=lambda g: int(g.split("-")[0].rstrip("+")))
         for name in names:
@@ -82,7 +86,9 @@ def main():
             values = groups[name]
             psnr = sum(v[0] for v in values) / len(values)
             ssim = sum(v[1] for v in values) / len(values)
-            print(f"| {name} | {len(values)} | {psnr:.2f} | {psnr - overall:+.2f} | {ssim:.4f} |")
+            blurred = sum(v[2] for v in values) / len(values)
+            blurred_text = f"{blurred:.2f}" if math.isfinite(blurred) else "-"
+            print(f"| {name} | {len(values)} | {psnr:.2f} | {psnr - overall:+.2f} | {ssim:.4f} | {blurred_text} |")
         print()
 
 

@@ -20,8 +20,8 @@
 #   cut mask handle the outside.
 #
 # Environment: FACETOOL, SHARED, WORK (default data/train-model-v2), SITTING_MINUTES as in
-# train-model.sh; for a trial run at small scale SYNTH_TRAIN, SYNTH_HELDOUT, UTK_LIMIT (the
-# first N UTKFace photos), STEPS (both stages) and BATCH (every source's batch).
+# train-model.sh; for a trial run at small scale SYNTH_TRAIN, SYNTH_HELDOUT, UTK_LIMIT (about N
+# UTKFace photos spread over the list), STEPS (both stages) and BATCH (every source's batch).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

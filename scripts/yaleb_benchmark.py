@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
       ps                                   reference normals, albedo, reliability masks
-      infer  [--facetool BIN]              the shipped model (as given, padded, --aligned --stretch)
+      infer  [--facetool BIN] [--model W --name NAME]   a model (as given, padded, --aligned --stretch)
       fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
       score  [--pred NAME=DIR ...] [--markdown FILE]
       run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
@@ -474,15 +474,20 @@ def command_infer(args):
     facetool = find_facetool(args.facetool)
     photos = eval_photos(args.data)
     pred = os.path.join(args.cache, "pred")
-    for name, extra in (("infer", []), ("infer-aligned", ["--aligned", "--stretch"])):
-        out = os.path.join(pred, name)
+    name = getattr(args, "name", None) or "infer"
+    model = ["--model", args.model] if getattr(args, "model", None) else []
+    for label, extra in ((name, []), (name + "-aligned", ["--aligned", "--stretch"])):
+        out = os.path.join(pred, label)
         make_clean(out)
-        print(f"facetool infer {' '.join(extra)} on {len(photos)} photos -> {out}", flush=True)
-        run_facetool([facetool, "infer", *extra, *[p for _, _, p in photos], "-o", out],
-                     os.path.join(pred, name + ".log"))
-    run_padded(args, photos, [facetool, "infer"], "photo.exr", os.path.join(pred, "infer-padded"))
-    # Landmarks per subject for the template's alignment: the photos lit near the camera axis.
+        print(f"facetool infer {' '.join(model + extra)} on {len(photos)} photos -> {out}", flush=True)
+        run_facetool([facetool, "infer", *model, *extra, *[p for _, _, p in photos], "-o", out],
+                     os.path.join(pred, label + ".log"))
+    run_padded(args, photos, [facetool, "infer", *model], "photo.exr", os.path.join(pred, name + "-padded"))
+    # Landmarks per subject for the template's alignment: the photos lit near the camera axis
+    # (kept from an earlier run: they do not depend on the model).
     out = os.path.join(args.cache, "landmarks")
+    if os.path.isdir(out) and os.listdir(out):
+        return
     make_clean(out)
     paths = [p for s in subjects(args.data) for p in landmark_photos(args.data, s)]
     print(f"facetool infer on {len(paths)} near-frontally lit photos for landmarks -> {out}", flush=True)
@@ -734,9 +739,11 @@ def command_score(args):
     print(f"evaluation mask: {100 * kept:.1f} % of the reliability mask (the rest lacks a template)")
     candidates = list(args.pred or [])
     if not candidates:
-        for name in ("infer", "infer-padded", "infer-aligned", "fit", "fit-padded"):
-            folder = os.path.join(args.cache, "pred", name)
-            if os.path.isdir(folder):
+        pred = os.path.join(args.cache, "pred")
+        names_found = sorted(os.listdir(pred)) if os.path.isdir(pred) else []
+        for name in names_found:  # every prediction folder (not the padded runs' uncut outputs)
+            folder = os.path.join(pred, name)
+            if os.path.isdir(folder) and not name.endswith("-full"):
                 candidates.append(f"{name}={folder}")
     constant = np.zeros(refs[names[0]][0].shape)
     constant[..., 2] = 1.0
@@ -826,6 +833,9 @@ def main():
     sub.add_parser("ps", help="photometric-stereo normals, albedo and reliability masks")
     p = sub.add_parser("infer", help="facetool infer (photo and --aligned) on the evaluation photos")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
+    p.add_argument("--model", help="trained weights for infer (default: the shipped model)")
+    p.add_argument("--name", help="the prediction folders' name under CACHE/pred (default: infer; "
+                                  "then NAME-aligned and NAME-padded)")
     p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
     p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,

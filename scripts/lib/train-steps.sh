@@ -55,19 +55,26 @@ split_lights() {
   done
 }
 
-# Links to the UTKFace photos in $WORK/utkface/{train,heldout} by the held-out rule (the first
-# UTK_LIMIT photos of the sorted list when it is set, for trial runs).
+# Links to the UTKFace photos in $WORK/utkface/{train,heldout} by the held-out rule. With
+# UTK_LIMIT set (trial runs, shorter sittings) about that many, spread evenly over the sorted
+# list (which is ordered by the age in the name, so its first N would all be of a few ages),
+# each part keeping every k-th of its photos so the held-out rule is unchanged.
 split_utkface() {
   rm -rf "$WORK/utkface" && mkdir -p "$WORK/utkface/train" "$WORK/utkface/heldout"
-  local k=0 f
-  while IFS= read -r f; do
+  local names=() k=0 f part stride=1 n_train=0 n_heldout=0
+  mapfile -t names < <(ls "$UTKFACE" | LC_ALL=C sort)
+  if [ -n "${UTK_LIMIT:-}" ] && [ "$UTK_LIMIT" -lt "${#names[@]}" ]; then
+    stride=$(( (${#names[@]} + UTK_LIMIT - 1) / UTK_LIMIT ))
+  fi
+  for f in "${names[@]}"; do
     k=$((k + 1))
     if [ $((k % REAL_HELDOUT_EVERY)) -eq 0 ]; then
-      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/heldout/$f"
+      part=heldout; n_heldout=$((n_heldout + 1)); [ $(((n_heldout - 1) % stride)) -eq 0 ] || continue
     else
-      ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/train/$f"
+      part=train; n_train=$((n_train + 1)); [ $(((n_train - 1) % stride)) -eq 0 ] || continue
     fi
-  done < <(ls "$UTKFACE" | LC_ALL=C sort | head -n "${UTK_LIMIT:-1000000}")
+    ln -s "$(realpath "$UTKFACE/$f")" "$WORK/utkface/$part/$f"
+  done
 }
 
 # Trains RUN with CONFIG (resuming its checkpoint when there is one), within SITTING_MINUTES.

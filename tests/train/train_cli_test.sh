@@ -69,4 +69,10 @@ done
 [ "$(wc -l < eval/per_image.csv)" -eq 25 ] || { echo "FAIL: per_image.csv rows"; exit 1; }
 "$facetool" eval --model straight/weights.safetensors --data pseudo -o eval-real >eval-real.txt 2>/dev/null
 if grep -q "normal_error" eval-real/summary.json; then echo "FAIL: real data got a normal error"; exit 1; fi
+# The blurred-input baseline: a wider blur loses more, so its PSNR against the input falls.
+"$facetool" eval --model straight/weights.safetensors --data data -o eval-blur2 --blur-sigma 2 >/dev/null 2>&1
+blurred() { grep -o '"blurred_psnr_db_mean": [0-9.]*' "$1/summary.json" | grep -o '[0-9.]*$'; }
+[ -n "$(blurred eval)" ] && [ -n "$(blurred eval-blur2)" ] || { echo "FAIL: no blurred_psnr_db_mean"; exit 1; }
+awk -v a="$(blurred eval)" -v b="$(blurred eval-blur2)" 'BEGIN { exit !(a > b + 1) }' ||
+  { echo "FAIL: blurred PSNR at sigma 1 ($(blurred eval)) not above sigma 2 ($(blurred eval-blur2))"; exit 1; }
 echo "train CLI: ok"

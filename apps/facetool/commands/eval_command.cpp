@@ -17,6 +17,7 @@
 #include "libs/inference/batched_decomposition.h"
 #include "libs/inference/decomposer.h"
 #include "core/util/atomic_file.h"
+#include "libs/image/gaussian_blur.h"
 #include "libs/io/image_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "libs/synth/gbuffer.h"
@@ -37,6 +38,7 @@ struct ImageResult {
   bool truth = false;
   double normal_mean = NAN, albedo_mse = NAN, visibility_mse = NAN, light = NAN;
   double psnr = NAN, ssim = NAN;
+  double blurred_psnr = NAN;  // of the input blurred by --blur-sigma: the baseline for psnr
   // The normal angles' sufficient statistics, so shards' results merge into the summary.
   int64_t pixels = 0, under20 = 0, under25 = 0, under30 = 0;
   double angle_sum = 0, angle_sum_sq = 0;
@@ -48,7 +50,7 @@ constexpr uint64_t kMaxCsvBytes = uint64_t{1} << 30;
 constexpr const char* kCsvHeader =
     "file,ground_truth,normal_error_mean_deg,albedo_mse,visibility_mse,light_error,psnr_db,ssim,"
     "normal_pixels,normal_angle_sum_deg,normal_angle_sum_sq_deg,under_20_pixels,under_25_pixels,"
-    "under_30_pixels";
+    "under_30_pixels,blurred_psnr_db";
 
 std::string number(double v) {
   if (std::isnan(v)) return "";
@@ -87,7 +89,7 @@ void add_sheet_row(RgbImage& sheet, int row, int size, const float* input, const
 // per_image.csv, summary.json and summary.md of `results` (one run, or merged shards).
 std::string write_outputs(const std::string& out_dir, const std::string& model,
                           const std::string& data, const std::vector<ImageResult>& results,
-                          const AngularSummary& a, const std::string& shard = "") {
+                          const AngularSummary& a, double blur_sigma, const std::string& shard = "") {
   std::ostringstream csv;
   csv << kCsvHeader << "\n";
   for (const ImageResult& r : results)
@@ -95,7 +97,7 @@ std::string write_outputs(const std::string& out_dir, const std::string& model,
         << number(r.albedo_mse) << "," << number(r.visibility_mse) << "," << number(r.light)
         << "," << number(r.psnr) << "," << number(r.ssim) << "," << r.pixels << ","
         << number(r.angle_sum) << "," << number(r.angle_sum_sq) << "," << r.under20 << ","
-        << r.under25 << "," << r.under30 << "\n";
+        << r.under25 << "," << r.under30 << "," << number(r.blurred_psnr) << "\n";
   const std::string csv_text = csv.str();
   write_file_atomically((fs::path(out_dir) / "per_image.csv").string(), csv_text.data(), csv_text.size());
 
@@ -104,7 +106,9 @@ std::string write_outputs(const std::string& out_dir, const std::string& model,
       {"model", model}, {"data", data}, {"images", results.size()},
       {"images_with_ground_truth", std::count_if(results.begin(), results.end(), [](const ImageResult& r) { return r.truth; })},
       {"psnr_db_mean", json_number(mean_of(results, &ImageResult::psnr))},
-      {"ssim_mean", json_number(mean_of(results, &ImageResult::ssim))}};
+      {"ssim_mean", json_number(mean_of(results, &ImageResult::ssim))},
+      {"blurred_psnr_db_mean", json_number(mean_of(results, &ImageResult::blurred_psnr))},
+      {"blur_sigma_px", json_number(blur_sigma)}};
   if (a.pixels > 0) {
     summary["normal_error"] = {{"mean_deg", a.mean}, {"std_deg", a.std}, {"under_20_percent", a.under20},
                                {"under_25_percent", a.under25}, {"under_30_percent", a.under30},
@@ -125,12 +129,14 @@ std::string write_outputs(const std::string& out_dir, const std::string& model,
        << "| facetool (" << fs::path(model).filename().string() << ") | " << a.mean << " +- " << a.std
        << " | " << a.under20 << "% | " << a.under25 << "% | " << a.under30 << "% |\n\n";
   }
-  md << "| images | albedo MSE | visibility MSE | light E_L | PSNR (dB) | SSIM |\n| --- | --- | --- | --- | --- | --- |\n"
+  md << "| images | albedo MSE | visibility MSE | light E_L | PSNR (dB) | SSIM | blurred input's PSNR (dB, sigma "
+     << number(blur_sigma) << " px) |\n| --- | --- | --- | --- | --- | --- | --- |\n"
      << "| " << results.size() << " | " << number(mean_of(results, &ImageResult::albedo_mse)) << " | "
      << number(mean_of(results, &ImageResult::visibility_mse)) << " | "
      << number(mean_of(results, &ImageResult::light)) << " | "
      << number(mean_of(results, &ImageResult::psnr)) << " | "
-     << number(mean_of(results, &ImageResult::ssim)) << " |\n";
+     << number(mean_of(results, &ImageResult::ssim)) << " | "
+     << number(mean_of(results, &ImageResult::blurred_psnr)) << " |\n";
   const std::string md_text = md.str();
   write_file_atomically((fs::path(out_dir) / "summary.md").string(), md_text.data(), md_text.size());
   return md_text;
@@ -152,6 +158,7 @@ double csv_number(const std::string& text) { return text.empty() ? NAN : std::st
 int merge_shards(const std::vector<std::string>& shards, const std::string& out_dir) {
   std::vector<ImageResult> results;
   std::string model, data;
+  double blur_sigma = NAN;
   // -o naming one of the shards would replace that shard's table with the merged one.
   for (const std::string& dir : shards)
     check(!fs::exists(out_dir) || !fs::equivalent(out_dir, dir), "eval --merge: -o '", out_dir,
@@ -171,8 +178,8 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
           "version (its header differs); rerun that shard");
     for (int row = 2; std::getline(in, line); ++row) {
       const std::vector<std::string> f = split_csv(line);
-      check(f.size() == 14, "eval --merge: '", path, "' line ", row, " has ", f.size(),
-            " fields, expected 14");
+      check(f.size() == 15, "eval --merge: '", path, "' line ", row, " has ", f.size(),
+            " fields, expected 15");
       ImageResult r;
       try {
         r.file = f[0];
@@ -189,6 +196,7 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
         r.under20 = std::stoll(f[11]);
         r.under25 = std::stoll(f[12]);
         r.under30 = std::stoll(f[13]);
+        r.blurred_psnr = csv_number(f[14]);
       } catch (const std::exception&) {
         throw Error("eval --merge: '" + path + "' line " + std::to_string(row) +
                     " holds a field that is not a number");
@@ -204,6 +212,8 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
     if (model.empty()) {
       if (j.is_object() && j.contains("model") && j["model"].is_string()) model = j["model"];
       if (j.is_object() && j.contains("data") && j["data"].is_string()) data = j["data"];
+      if (j.is_object() && j.contains("blur_sigma_px") && j["blur_sigma_px"].is_number())
+        blur_sigma = j["blur_sigma_px"];
     }
     // Which shard of how many: all of them must be merged, else the figures are of a part.
     if (j.is_object() && j.contains("shard") && j["shard"].is_string()) {
@@ -252,7 +262,7 @@ int merge_shards(const std::vector<std::string>& shards, const std::string& out_
   const AngularSummary a = sums.summary();
   fs::create_directories(out_dir);
   const FolderLock lock(out_dir, "-o");  // one run per output folder
-  std::cout << write_outputs(out_dir, model, data, results, a);
+  std::cout << write_outputs(out_dir, model, data, results, a, blur_sigma);
   std::cerr << "merged " << shards.size() << " shards, " << results.size() << " images\n";
   return 0;
 }
@@ -262,6 +272,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   std::string model, data, out_dir, shard = "0/1";
   std::vector<std::string> merge;
   int batch = 8;
+  double blur_sigma = 1.0;
   options.add_options()
       ("model", po::value(&model)->value_name("WEIGHTS"), "trained weights (default: the shipped model)")
       ("data", po::value(&data)->value_name("DIR"),
@@ -269,6 +280,9 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(),
        "writes per_image.csv, summary.json, summary.md")
       ("batch", po::value(&batch)->default_value(8), "images per network run")
+      ("blur-sigma", po::value(&blur_sigma)->value_name("PX")->default_value(1.0),
+       "the baseline beside the reconstruction's PSNR: the input blurred by a Gaussian of this "
+       "standard deviation (pixels of the sample), against the input")
       ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
        "evaluate only the samples i, i+n, i+2n, ... of the sorted list (Slurm array jobs)")
       ("merge", po::value(&merge)->value_name("DIR")->multitoken(),
@@ -282,11 +296,13 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
           "Evaluates a trained network. On synthetic samples (ground truth): the paper's Table 1 "
           "(normal angular\nerror mean +- std, % of pixels under 20, 25, 30 degrees), albedo and "
           "visibility MSE, light error E_L,\nand reconstruction PSNR and SSIM; on real samples "
-          "(facetool-real-1, pseudo labels are not truth)\nPSNR and SSIM only. Everything is "
+          "(facetool-real-1, pseudo labels are not truth)\nPSNR and SSIM only. Beside the PSNR, "
+          "that of the input blurred by --blur-sigma (a reconstruction\nbelow it is blurrier "
+          "than that). Everything is "
           "measured in the face mask eroded by one pixel.",
           options, {}, args, values))
     return 0;
-  check_option_ranges(values, {{"batch", 1, 1024}});
+  check_option_ranges(values, {{"batch", 1, 1024}, {"blur-sigma", 0, 100}});
   if (!merge.empty()) {
     if (!model.empty() || !data.empty() || values.count("contact-sheet"))
       throw UsageError("eval: --merge takes only shard folders and -o");
@@ -360,6 +376,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
           const float* normal = d.normal.data() + i * 3 * plane;
           r.psnr = masked_psnr(recon, s.image.data(), mask.data(), size, size);
           r.ssim = masked_ssim(recon, s.image.data(), mask.data(), size, size);
+          r.blurred_psnr = masked_psnr(gaussian_blur(s.image, 3, size, size, blur_sigma).data(),
+                                       s.image.data(), mask.data(), size, size);
           if (r.truth) {
             std::vector<double> own;
             normal_angles_deg(normal, s.normal.data(), mask.data(), plane, own);
@@ -388,7 +406,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   progress.finish();
 
   const std::string md_text =
-      write_outputs(out_dir, model, data, results, summarize_angles(angles),
+      write_outputs(out_dir, model, data, results, summarize_angles(angles), blur_sigma,
                     shard_count > 1
                         ? std::to_string(shard_index) + "/" + std::to_string(shard_count)
                         : "");
