@@ -93,13 +93,42 @@ step_stage2() {
   train_run "$WORK/stage2.json" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
 }
 
-# Held-out figures of both stages: synthetic (Table 1 form) and real (PSNR, SSIM, and the
-# normals against the fit's labels).
+# Held-out figures of both stages: synthetic (Table 1 form), real (PSNR and SSIM beside the
+# blurred photo's, by group; the normals against the fit's labels), a contact sheet of 24
+# held-out UTKFace photos (every k-th of the sorted list, so the same 24 each time) and, where
+# ../shared has yaleb-dev, the photometric-stereo benchmark with the fit beside it.
 step_eval() {
   local stage
   for stage in stage1 stage2; do
     eval_stage "$stage" "$WORK/synthetic-heldout" "$WORK/real-fit-heldout"
+    /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
+      "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
+    local photos=() k=0 f
+    local all=("$WORK"/utkface/heldout/*)
+    local every=$(( ${#all[@]} / 24 > 0 ? ${#all[@]} / 24 : 1 ))
+    for f in "${all[@]}"; do
+      [ $((k++ % every)) -eq 0 ] && [ ${#photos[@]} -lt 24 ] && photos+=("$f")
+    done
+    "$FACETOOL" infer --model "$WORK/$stage/weights.safetensors" --aligned "${photos[@]}" \
+      -o "$WORK/eval/$stage-utkface24" > /dev/null || true
+    if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
+      [ -d "$WORK/yaleb/ps" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" ps > /dev/null
+      /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" infer --facetool "$FACETOOL" \
+        --model "$WORK/$stage/weights.safetensors" --name "v2-$stage" > /dev/null
+      /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" relight --facetool "$FACETOOL" \
+        --model "$WORK/$stage/weights.safetensors" --name "v2-$stage" --markdown "$WORK/eval/$stage-relight.md" > /dev/null
+    fi
   done
+  if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
+    [ -d "$WORK/yaleb/pred/fit" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" \
+      fit --fit-bin "$FACETOOL" > /dev/null
+    /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" infer --facetool "$FACETOOL" \
+      --name v1 > /dev/null
+    /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" relight --facetool "$FACETOOL" \
+      --name v1 --markdown "$WORK/eval/v1-relight.md" > /dev/null
+    /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" score \
+      --markdown "$WORK/eval/yaleb.md"
+  fi
 }
 
 run_steps "$@"

@@ -5,6 +5,7 @@
       ps                                   reference normals, albedo, reliability masks
       infer  [--facetool BIN] [--model W --name NAME]   a model (as given, padded, --aligned --stretch)
       fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
+      relight [--model W --name NAME]      frontal photos relit to the +-25 degree lights: PSNR
       score  [--pred NAME=DIR ...] [--markdown FILE]
       run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
 
@@ -539,6 +540,77 @@ def run_padded(args, photos, command, result_name, out):
         write_exr(os.path.join(out, stem, "normal.exr"), n, ("R", "G", "B"))
 
 
+# Relighting: the frontal photo relit to each of these lights, against the real photo under it.
+RELIGHT_TARGETS = [(25, 0), (-25, 0)]
+
+
+def read_grey(path):
+    """An 8-bit image file as H x W float32 0..255, its channels averaged."""
+    pixels, _ = read_exr_channels(path)
+    return pixels[:, :, :3].mean(axis=2) * 255.0 if pixels.shape[2] >= 3 else pixels[:, :, 0] * 255.0
+
+
+def command_relight(args):
+    """`facetool relight` of each subject's frontal photo to the +-25 degree lights, two ways:
+    the light estimated on the target photo (--light-from TARGET) and the known direction (the
+    light estimated on the frontal photo turned by the strobes' azimuth difference about the
+    vertical axis, --rotate); PSNR against the real target photo in the PS reliability mask,
+    beside the unchanged frontal photo. Runs on the padded photos (as infer-padded; the tight
+    crops defeat the detector) and cuts the results back."""
+    facetool = find_facetool(args.facetool)
+    photos = eval_photos(args.data)
+    padded = padded_photos(args, photos)
+    name = args.name or "relight"
+    model = ["--model", args.model] if args.model else []
+    out = os.path.join(args.cache, "relight", name)
+    make_clean(out)
+    rows = {"unchanged frontal photo": [], f"{name}, light from the target photo": [],
+            f"{name}, known direction": []}
+    missing = 0
+    for s in subjects(args.data):
+        source = eval_stem(s, 0, 0)
+        ps_folder = os.path.join(args.cache, "ps", s)
+        if source not in padded or not os.path.exists(os.path.join(ps_folder, "reliable.exr")):
+            continue
+        mask = read_exr_channels(os.path.join(ps_folder, "reliable.exr"))[0][:, :, 0] > 0.5
+        src_path, pad, (h, w) = padded[source]
+        frontal = read_pgm(dict((st, p) for _, st, p in photos)[source])
+        for a, e in RELIGHT_TARGETS:
+            target = eval_stem(s, a, e)
+            if target not in padded:
+                continue
+            truth = read_pgm(dict((st, p) for _, st, p in photos)[target])
+
+            def psnr(img):
+                d = (img[mask] - truth[mask]) / 255.0
+                return 10 * math.log10(1.0 / max(float(np.mean(d * d)), 1e-12))
+
+            rows["unchanged frontal photo"].append(psnr(frontal))
+            yaw = AZIMUTH_SIGN * a  # Ry(yaw) turns +Z towards +X for a positive yaw
+            for label, extra in ((f"{name}, light from the target photo", ["--light-from", padded[target][0]]),
+                                 (f"{name}, known direction", ["--light-from", src_path, f"--rotate={yaw:g},{e:g},0"])):
+                folder = os.path.join(out, f"{target}-{'target' if 'target' in label else 'known'}")
+                run_facetool([facetool, "relight", *model, src_path, *extra, "-o", folder], folder + ".log")
+                relit = os.path.join(folder, source, "relit.png")
+                if not os.path.exists(relit):
+                    missing += 1
+                    continue
+                rows[label].append(psnr(read_grey(relit)[pad:pad + h, pad:pad + w]))
+    lines = [f"Relighting on yaleb-dev: each subject's frontal photo relit to the {len(RELIGHT_TARGETS)} "
+             f"lights at azimuth {', '.join(f'{a:+d}' for a, _ in RELIGHT_TARGETS)} degrees; PSNR (dB, 8-bit grey "
+             f"values, peak 255) against the real photo under that light, in the PS reliability mask"
+             + (f"; {missing} relit photo(s) missing (no face found)" if missing else ""), "",
+             "| method | pairs | PSNR mean ± std (dB) |", "| --- | --- | --- |"]
+    for label, values in rows.items():
+        v = np.array(values)
+        lines.append(f"| {label} | {len(v)} | " + (f"{v.mean():.2f} ± {v.std():.2f} |" if len(v) else "– |"))
+    text = "\n".join(lines)
+    print(text)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(text + "\n")
+
+
 # `fit`'s options for this set unless --fit-args gives the same option: Yale B's camera is far
 # from the face, so the field of view over these tight crops is narrow (chosen on this set:
 # docs/benchmarks.md); the benchmark reads only normal.exr, so no visibility or contact sheets.
@@ -836,6 +908,11 @@ def main():
     p.add_argument("--model", help="trained weights for infer (default: the shipped model)")
     p.add_argument("--name", help="the prediction folders' name under CACHE/pred (default: infer; "
                                   "then NAME-aligned and NAME-padded)")
+    p = sub.add_parser("relight", help="relight the frontal photos to the +-25 degree lights; PSNR")
+    p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
+    p.add_argument("--model", help="trained weights for relight (default: the shipped model)")
+    p.add_argument("--name", help="the results' name (default: relight)")
+    p.add_argument("--markdown", help="also write the table to this file")
     p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
     p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
@@ -865,6 +942,8 @@ def main():
         command_infer(args)
     elif args.command == "fit":
         command_fit(args)
+    elif args.command == "relight":
+        command_relight(args)
     elif args.command == "score":
         command_score(args)
     elif args.command == "run":
