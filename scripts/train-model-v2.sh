@@ -107,7 +107,7 @@ step_eval() {
     local all=("$WORK"/utkface/heldout/*)
     local every=$(( ${#all[@]} / 24 > 0 ? ${#all[@]} / 24 : 1 ))
     for f in "${all[@]}"; do
-      [ $((k++ % every)) -eq 0 ] && [ ${#photos[@]} -lt 24 ] && photos+=("$f")
+      if [ $((k++ % every)) -eq 0 ] && [ ${#photos[@]} -lt 24 ]; then photos+=("$f"); fi
     done
     "$FACETOOL" infer --model "$WORK/$stage/weights.safetensors" --aligned "${photos[@]}" \
       -o "$WORK/eval/$stage-utkface24" > /dev/null || true
