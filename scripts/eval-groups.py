@@ -69,9 +69,10 @@ def main():
     if not rows:
         sys.exit(f"eval-groups: no row of {per_image} matches a labelled photo of {manifest}")
     overall = sum(r[1] for r in rows) / len(rows)
+    blurred = sum(r[3] for r in rows) / len(rows)
     print(f"Held-out real photos: {len(rows)}, mean PSNR {overall:.2f} dB, "
-          f"mean SSIM {sum(r[2] for r in rows) / len(rows):.4f}, "
-          f"blurred photo's mean PSNR {sum(r[3] for r in rows) / len(rows):.2f} dB\n")
+          f"mean SSIM {sum(r[2] for r in rows) / len(rows):.4f}"
+          + (f", blurred photo's mean PSNR {blurred:.2f} dB" if math.isfinite(blurred) else "") + "\n")
     for grouping in ("race label", "age", "gender"):
         groups = {}
         for group, psnr, ssim, blurred in rows:

@@ -110,7 +110,7 @@ step_eval() {
       if [ $((k++ % every)) -eq 0 ] && [ ${#photos[@]} -lt 24 ]; then photos+=("$f"); fi
     done
     "$FACETOOL" infer --model "$WORK/$stage/weights.safetensors" --aligned "${photos[@]}" \
-      -o "$WORK/eval/$stage-utkface24" > /dev/null || true
+      -o "$WORK/eval/$stage-utkface24" > /dev/null || [ $? -eq 1 ]  # 1: a photo without a face
     if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
       [ -d "$WORK/yaleb/ps" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" ps > /dev/null
       /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" infer --facetool "$FACETOOL" \

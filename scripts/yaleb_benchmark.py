@@ -544,6 +544,13 @@ def run_padded(args, photos, command, result_name, out):
 RELIGHT_TARGETS = [(25, 0), (-25, 0)]
 
 
+def relight_yaw(azimuth_deg):
+    """The yaw (degrees) of `facetool relight --rotate` that turns a light on the camera axis to
+    the strobe at this azimuth (elevation 0): facetool's Ry(yaw) turns +Z towards +X for a
+    positive yaw (right-hand rule, apps/facetool/commands/light_rotation.h)."""
+    return AZIMUTH_SIGN * azimuth_deg
+
+
 def read_grey(path):
     """An 8-bit image file as H x W float32 0..255, its channels averaged."""
     pixels, _ = read_exr_channels(path)
@@ -567,6 +574,7 @@ def command_relight(args):
     rows = {"unchanged frontal photo": [], f"{name}, light from the target photo": [],
             f"{name}, known direction": []}
     missing = 0
+    path_of = {stem: path for _, stem, path in photos}
     for s in subjects(args.data):
         source = eval_stem(s, 0, 0)
         ps_folder = os.path.join(args.cache, "ps", s)
@@ -574,21 +582,21 @@ def command_relight(args):
             continue
         mask = read_exr_channels(os.path.join(ps_folder, "reliable.exr"))[0][:, :, 0] > 0.5
         src_path, pad, (h, w) = padded[source]
-        frontal = read_pgm(dict((st, p) for _, st, p in photos)[source])
+        frontal = read_pgm(path_of[source])
         for a, e in RELIGHT_TARGETS:
             target = eval_stem(s, a, e)
             if target not in padded:
                 continue
-            truth = read_pgm(dict((st, p) for _, st, p in photos)[target])
+            truth = read_pgm(path_of[target])
 
             def psnr(img):
                 d = (img[mask] - truth[mask]) / 255.0
                 return 10 * math.log10(1.0 / max(float(np.mean(d * d)), 1e-12))
 
             rows["unchanged frontal photo"].append(psnr(frontal))
-            yaw = AZIMUTH_SIGN * a  # Ry(yaw) turns +Z towards +X for a positive yaw
+            turn = f"--rotate={relight_yaw(a):g},0,0"
             for label, extra in ((f"{name}, light from the target photo", ["--light-from", padded[target][0]]),
-                                 (f"{name}, known direction", ["--light-from", src_path, f"--rotate={yaw:g},{e:g},0"])):
+                                 (f"{name}, known direction", ["--light-from", src_path, turn])):
                 folder = os.path.join(out, f"{target}-{'target' if 'target' in label else 'known'}")
                 run_facetool([facetool, "relight", *model, src_path, *extra, "-o", folder], folder + ".log")
                 relit = os.path.join(folder, source, "relit.png")

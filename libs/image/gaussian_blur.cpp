@@ -23,7 +23,7 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
   for (int k = -radius; k <= radius; ++k)
     kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
 
-  // One pass along an axis: `count` samples `stride` apart starting at `first`.
+  // One pass along an axis: the `count` samples `stride` apart from `in` to `out`.
   auto pass = [&](const float* in, float* out, int count, int64_t stride) {
     for (int i = 0; i < count; ++i) {
       double sum = 0, weight = 0;
@@ -41,7 +41,10 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
     const float* src = image.data() + c * plane;
     float* mid = rows.data() + c * plane;
     float* dst = result.data() + c * plane;
-    for (int y = 0; y < height; ++y) pass(src + static_cast<int64_t>(y) * width, mid + static_cast<int64_t>(y) * width, width, 1);
+    for (int y = 0; y < height; ++y) {
+      const int64_t row = static_cast<int64_t>(y) * width;
+      pass(src + row, mid + row, width, 1);
+    }
     for (int x = 0; x < width; ++x) pass(mid + x, dst + x, height, width);
   }
   return result;

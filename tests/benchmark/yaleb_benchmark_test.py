@@ -125,6 +125,16 @@ class LightConvention(unittest.TestCase):
         np.testing.assert_allclose(yb.light_direction(90, 45), [-s, s, 0], atol=1e-12)
 
 
+class RelightYaw(unittest.TestCase):
+    def test_turns_the_axis_light_to_the_strobe(self):
+        """Ry(yaw) as facetool defines it (right-hand rule about +Y) applied to the camera axis
+        gives the strobe's direction for every relighting target and a few more azimuths."""
+        for a in (25, -25, 50, -50, 90):
+            t = math.radians(yb.relight_yaw(a))
+            turned = np.array([math.sin(t), 0.0, math.cos(t)])  # Ry(t) (0, 0, 1)
+            np.testing.assert_allclose(turned, yb.light_direction(a, 0), atol=1e-12)
+
+
 class Scorer(unittest.TestCase):
     def test_angles_against_hand_computed_values(self):
         up = np.array([0.0, 0.0, 1.0])
