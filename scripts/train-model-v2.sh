@@ -3,7 +3,9 @@
 #
 #   bash scripts/train-model-v2.sh [STEP...]      # no STEP: all of them, in order
 #
-# Steps: lights synth real fit-labels stage1 stage2 eval. Every step is resumable as in
+# Steps: lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 eval.
+# The prior-* steps train the same network with the fit's normals as a second input (issue 25
+# item 4; docs/fit.md, "The fit as the network's input") for the same table. Every step is resumable as in
 # scripts/train-model.sh (synth and prepare-real keep what they wrote, training resumes its
 # checkpoint, a finished step is skipped: $WORK/done/STEP), so the model trains over several
 # sittings: set SITTING_MINUTES and run the same command in each. Wall times land in
@@ -36,7 +38,10 @@ MAX_EDGE_CUT=0.2
 SYNTH_TRAIN=${SYNTH_TRAIN:-20000}
 SYNTH_HELDOUT=${SYNTH_HELDOUT:-500}
 HELDOUT_LIGHTS="quarry_01_1k.hdr sunrise.exr sunset.exr"  # the same held-out lights as v1
-ALL_STEPS="lights synth real fit-labels stage1 stage2 eval"
+# Synthetic samples' landmarks jittered by this x the inter-ocular distance before the prior's
+# fit: 0.08 makes the prior as wrong as the fit from dlib's landmarks on renders (docs/fit.md).
+LANDMARK_NOISE=${LANDMARK_NOISE:-0.08}
+ALL_STEPS="lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 eval"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -73,11 +78,11 @@ step_fit-labels() {
   done
 }
 
-# configs/facetool-v2-STAGE.json with this work folder's data (and the trial overrides).
+# configs/facetool-v2-STAGE.json with this work folder's data (each source's folder by its name)
+# and the trial overrides.
 write_config() {
   local stage=$1 path=$2
-  local edits=(-e "s#\"directory\": \"[^\"]*synthetic\"#\"directory\": \"$(realpath "$WORK")/synthetic\"#"
-               -e "s#\"directory\": \"[^\"]*real-fit\"#\"directory\": \"$(realpath "$WORK")/real-fit-train\"#")
+  local edits=(-E -e "s#\"directory\": \"[^\"]*/([^/\"]+)\"#\"directory\": \"$(realpath "$WORK")/\\1\"#")
   [ -n "${STEPS:-}" ] && edits+=(-e "s/\"steps\": [0-9]*/\"steps\": $STEPS/")
   [ -n "${BATCH:-}" ] && edits+=(-e "s/\"batch\": [0-9]*/\"batch\": $BATCH/")
   sed "${edits[@]}" "configs/facetool-v2-$stage.json" > "$path"
@@ -91,6 +96,27 @@ step_stage1() {
 step_stage2() {
   write_config stage2 "$WORK/stage2.json"
   train_run "$WORK/stage2.json" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
+}
+
+# The fit's normals as the input prior: the synthetic samples' exact landmarks jittered by
+# LANDMARK_NOISE (a detector's error) before the fit; the fit-labelled real samples carry the
+# prior already (the fit that labels them).
+step_prior-data() {
+  local part
+  for part in synthetic synthetic-heldout; do
+    "$FACETOOL" pseudo-label --from fit --prior-only --landmark-noise "$LANDMARK_NOISE" --face-model "$FACE_MODEL" \
+      "$WORK/$part"/sample_*.exr -o "$WORK/$part-prior"
+  done
+}
+
+step_prior-stage1() {
+  write_config prior-stage1 "$WORK/prior-stage1.json"
+  train_run "$WORK/prior-stage1.json" "$WORK/prior-stage1"
+}
+
+step_prior-stage2() {
+  write_config prior-stage2 "$WORK/prior-stage2.json"
+  train_run "$WORK/prior-stage2.json" "$WORK/prior-stage2" --from "$WORK/prior-stage1/weights.safetensors"
 }
 
 # Held-out figures of both stages: synthetic (Table 1 form), real (PSNR and SSIM beside the
@@ -118,6 +144,13 @@ step_eval() {
       /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" relight --facetool "$FACETOOL" \
         --model "$WORK/$stage/weights.safetensors" --name "v2-$stage" --markdown "$WORK/eval/$stage-relight.md" > /dev/null
     fi
+  done
+  # The prior network on the same held-out data (photos: not yet; infer feeds photo crops alone).
+  for stage in prior-stage1 prior-stage2; do
+    [ -e "$WORK/$stage/weights.safetensors" ] || continue
+    eval_stage "$stage" "$WORK/synthetic-heldout-prior" "$WORK/real-fit-heldout"
+    /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
+      "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
   done
   if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
     [ -d "$WORK/yaleb/pred/fit" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" \

@@ -15,7 +15,15 @@ namespace facetool {
 struct NetworkConfig {
   int width = 128;       // channels of the 64x64 trunk (the paper: 128); other layers scale with it
   int input_size = 128;  // square input resolution (the paper: 128); must be divisible by 2
+  // What the network receives besides the image: "" (the paper: nothing) or "fit_normal" (the
+  // normals of the ICT-FaceKit fit to the face's landmarks, 3 more input channels, 0 where the
+  // fitted face does not cover the crop; docs/fit.md "The fit as the network's input").
+  std::string input_prior = "";
 };
+
+// Input channels the prior adds (0 for "", 3 for "fit_normal"); throws facetool::Error naming
+// `prior` and the known ones otherwise.
+int input_prior_channels(const std::string& prior);
 
 // Per image: albedo [N,3,S,S] in [0,1], unit normal [N,3,S,S], visibility SH [N,9,S,S],
 // light SH [N,27] (9 per RGB channel, channel-major).
@@ -38,8 +46,9 @@ class NetworkPlugin : public Plugin {
   virtual std::vector<std::pair<std::string, Tensor>> buffers() const = 0;
   // Reproducible initial weights: Kaiming-normal convolutions, unit/zero batch norms.
   virtual void init_random(uint64_t seed) = 0;
-  // images [N,3,S,S], RGB in [0,1]. `training` selects batch statistics in batch norm (and
-  // updates the running ones).
+  // images [N,3+P,S,S]: RGB in [0,1], then the P = input_prior_channels(config().input_prior)
+  // prior channels. `training` selects batch statistics in batch norm (and updates the running
+  // ones).
   virtual NetworkOutputs forward(const ag::Variable& images, bool training) = 0;
   // Multiply-adds x 2 of one image's forward pass (for benchmarks); 0 when unknown.
   virtual double forward_flops_per_image() const { return 0.0; }

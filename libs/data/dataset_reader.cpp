@@ -10,6 +10,8 @@
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/random.h"
 #include "libs/synth/synth_sample.h"
+#include "core/ops/ops.h"
+#include "core/plugin/network_plugin.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 
@@ -17,7 +19,7 @@ namespace facetool {
 namespace fs = std::filesystem;
 
 struct DatasetReader::HostBatch {
-  std::vector<float> image, albedo, normal, mask, visibility, light;
+  std::vector<float> image, albedo, normal, mask, visibility, light, prior;
   std::vector<std::string> files;
   int64_t epoch = 0;
   std::exception_ptr error;
@@ -102,7 +104,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
   const int64_t first = (batch_number % per_epoch) * options_.batch_size;
   for (int b = 0; b < options_.batch_size; ++b) {
     const std::string& file = files_[order[first + b]];
-    const TrainingSample s = read_training_sample(file, options_.require_labels);
+    const TrainingSample s = read_training_sample(file, options_.require_labels, options_.input_prior);
     check(s.width == width_ && s.height == height_, "sample '", file, "' is ", s.width, "x",
           s.height, " but the dataset's first sample is ", width_, "x", height_);
     batch.files.push_back(file);
@@ -113,6 +115,7 @@ DatasetReader::HostBatch DatasetReader::load_batch(int64_t batch_number) {
     batch.mask.insert(batch.mask.end(), eroded.begin(), eroded.end());
     batch.visibility.insert(batch.visibility.end(), s.visibility.begin(), s.visibility.end());
     batch.light.insert(batch.light.end(), s.light.begin(), s.light.end());
+    batch.prior.insert(batch.prior.end(), s.prior.begin(), s.prior.end());
   }
   return batch;
 }
@@ -160,9 +163,15 @@ SyntheticBatch DatasetReader::next() {
   batch.mask = Tensor::from_host(backend_, Shape{n, 1, h, w}, host.mask);
   batch.visibility = Tensor::from_host(backend_, Shape{n, 9, h, w}, host.visibility);
   batch.light = Tensor::from_host(backend_, Shape{n, 27}, host.light);
+  if (!options_.input_prior.empty())
+    batch.prior = Tensor::from_host(backend_, Shape{n, input_prior_channels(options_.input_prior), h, w}, host.prior);
   batch.files = std::move(host.files);
   batch.epoch = host.epoch;
   return batch;
+}
+
+Tensor SyntheticBatch::network_input() const {
+  return prior.defined() ? ops::concat_channels({image, prior}) : image;
 }
 
 }  // namespace facetool

@@ -19,11 +19,15 @@ class Backend;
 
 // One batch, NCHW: image [N,3,H,W], albedo [N,3,H,W], normal [N,3,H,W], mask [N,1,H,W] (the
 // head mask eroded by one pixel, the region the losses use), visibility [N,9,H,W], light
-// [N,27] (channel-major R0..R8 G0..G8 B0..B8).
+// [N,27] (channel-major R0..R8 G0..G8 B0..B8); prior [N,P,H,W], the network's input prior when
+// the reader was asked for one (undefined otherwise).
 struct SyntheticBatch {
-  Tensor image, albedo, normal, mask, visibility, light;
+  Tensor image, albedo, normal, mask, visibility, light, prior;
   std::vector<std::string> files;  // the samples, in batch order
   int64_t epoch = 0;               // the pass over the data the batch belongs to (0-based)
+
+  // What the network reads: the image, followed by the prior's channels when there is one.
+  Tensor network_input() const;
 };
 
 struct DatasetReaderOptions {
@@ -41,6 +45,8 @@ struct DatasetReaderOptions {
   int64_t start_batch = 0;  // the first batch served (resuming: batches already consumed)
   // Real samples (facetool-real-1) must carry pseudo labels; without, their labels are zeros.
   bool require_labels = true;
+  // NetworkConfig::input_prior: every sample must carry it (read_training_sample).
+  std::string input_prior = "";
 };
 
 class DatasetReader {

@@ -8,6 +8,7 @@
 
 #include "libs/io/exr_io.h"
 #include "libs/synth/synth_sample.h"
+#include "core/plugin/network_plugin.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -80,20 +81,15 @@ TrainingSample checked(TrainingSample s, const std::string& path) {
   check_finite(s.albedo, "albedo", s.width, s.height, path);
   check_finite(s.normal, "normal", s.width, s.height, path);
   check_finite(s.visibility, "visibility", s.width, s.height, path);
+  check_finite(s.prior, "input prior", s.width, s.height, path);
   for (size_t k = 0; k < s.light.size(); ++k)
     check(std::isfinite(s.light[k]), "sample '", path, "' holds a NaN or infinite light ",
           "coefficient (number ", k, "); regenerate or remove the file");
   return s;
 }
 
-}  // namespace
-
-TrainingSample read_training_sample(const std::string& path, bool need_labels) {
-  const LayeredImage header = read_exr_header(path, kPrefix);
-  const std::string* version = header.find_metadata(std::string(kPrefix) + "generator_version");
-  if (version && *version == kRealSampleVersion)
-    return checked(read_real(read_exr(path, kPrefix), path, need_labels), path);
-  const SynthSample synth = read_synth_sample(path);
+TrainingSample read_synthetic(const LayeredImage& image, const std::string& path) {
+  const SynthSample synth = synth_sample_from_image(image, path);
   TrainingSample s;
   s.width = synth.width;
   s.height = synth.height;
@@ -104,6 +100,29 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels) {
   s.visibility = synth.visibility;
   for (double v : synth.light) s.light.push_back(static_cast<float>(v));
   s.labelled = true;
+  return s;
+}
+
+// The input prior's channels (input_prior_channels: only "fit_normal" has any).
+void read_prior(const LayeredImage& image, const std::string& path, const std::string& input_prior,
+                std::vector<float>& out) {
+  check(input_prior_channels(input_prior) == 3, "unknown input prior '", input_prior, "'");
+  const std::vector<std::string> names{"prior.X", "prior.Y", "prior.Z"};
+  for (const std::string& name : names)
+    check(image.find_channel(name) >= 0, "sample '", path, "' has no ", name, " channel but the network takes ",
+          "the fit's normals as input (network.input_prior \"", input_prior, "\"); add them with ",
+          "`facetool pseudo-label --from fit` (--prior-only keeps the sample's labels)");
+  copy_channels(image, names, path, out);
+}
+
+}  // namespace
+
+TrainingSample read_training_sample(const std::string& path, bool need_labels, const std::string& input_prior) {
+  const LayeredImage image = read_exr(path, kPrefix);
+  const std::string* version = image.find_metadata(std::string(kPrefix) + "generator_version");
+  TrainingSample s = version && *version == kRealSampleVersion ? read_real(image, path, need_labels)
+                                                                : read_synthetic(image, path);
+  if (!input_prior.empty()) read_prior(image, path, input_prior, s.prior);
   return checked(std::move(s), path);
 }
 

@@ -9,10 +9,12 @@
 namespace facetool {
 
 // Planar [channels][height * width]. Real samples without labels have `labelled` false and
-// albedo, normal, visibility and light filled with zeros.
+// albedo, normal, visibility and light filled with zeros. `prior` holds the network's input
+// prior when one was asked for (channels prior.X/Y/Z for "fit_normal"), else nothing.
 struct TrainingSample {
   int width = 0, height = 0;
   std::vector<float> image, albedo, normal, mask, visibility, light;  // light: 27
+  std::vector<float> prior;
   bool labelled = false;
   bool real = false;
 };
@@ -20,8 +22,12 @@ struct TrainingSample {
 // Reads a synthetic sample (facetool synth) or a real one (generator facetool-real-1: channels
 // R G B mask, and when pseudo-labelled albedo.R/G/B normal.X/Y/Z visibility.0..8 plus the
 // facetool:light_sh attribute). With `need_labels`, a real sample without labels is an error
-// naming the file and saying to run `facetool pseudo-label`.
-TrainingSample read_training_sample(const std::string& path, bool need_labels);
+// naming the file and saying to run `facetool pseudo-label`. With an `input_prior`
+// (NetworkConfig::input_prior) the sample must carry its channels (prior.X/Y/Z for
+// "fit_normal", written by `facetool pseudo-label --from fit`); a sample without is an error
+// naming the file and the command.
+TrainingSample read_training_sample(const std::string& path, bool need_labels,
+                                    const std::string& input_prior = "");
 
 // Width and height from the file's header.
 void read_training_sample_size(const std::string& path, int& width, int& height);

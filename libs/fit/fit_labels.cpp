@@ -3,8 +3,8 @@
 
 #include <cstdio>
 #include <map>
-#include <sstream>
 
+#include "libs/fit/fit_prior.h"
 #include "libs/synth/gbuffer.h"
 #include "core/util/error.h"
 
@@ -13,15 +13,7 @@ namespace facetool {
 LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
                                  const PhotoFitOptions& options, const VisibilitySampler& sampler,
                                  const std::string& label) {
-  const std::string* landmarks_text = sample.find_metadata("facetool:landmarks");
-  check(landmarks_text != nullptr, "sample '", source,
-        "' has no facetool:landmarks: pseudo-label --from fit needs samples written by `facetool prepare-real`");
-  LandmarkTarget target;
-  target.width = sample.width;
-  target.height = sample.height;
-  std::istringstream in(*landmarks_text);
-  for (Point2& p : target.landmarks)
-    check(static_cast<bool>(in >> p.x >> p.y), "sample '", source, "': facetool:landmarks does not hold 136 numbers");
+  const LandmarkTarget target = read_sample_landmarks(sample, source);
   const int r = sample.find_channel("R"), g = sample.find_channel("G"), b = sample.find_channel("B");
   check(r >= 0 && g >= 0 && b >= 0, "sample '", source, "' has no R, G, B channels");
   const FaceFit fit = fit_landmarks(basis, target, options.fit);
@@ -58,6 +50,8 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
     add(normal[c], rendering.normal.data() + c * plane);
   }
   for (int j = 0; j < 9; ++j) add("visibility." + std::to_string(j), rendering.visibility.data() + j * plane);
+  const char* prior[3] = {"prior.X", "prior.Y", "prior.Z"};  // the same normals as the network's input prior
+  for (int c = 0; c < 3; ++c) add(prior[c], rendering.normal.data() + c * plane);
   LayeredImage out(sample.width, sample.height, names);
   for (size_t k = 0; k < names.size(); ++k)
     std::copy(planes[names[k]], planes[names[k]] + plane, out.plane(static_cast<int>(k)));
@@ -70,6 +64,8 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   }
   out.set_metadata("facetool:light_sh", light);
   out.set_metadata("facetool:pseudo_labels", label);
+  out.set_metadata("facetool:input_prior", "fit_normal");
+  out.set_metadata("facetool:prior_landmark_noise", "0");
   std::snprintf(buffer, sizeof buffer, "%.4g", fit.rms_px);
   out.set_metadata("facetool:fit_landmark_rms_px", buffer);
   return out;

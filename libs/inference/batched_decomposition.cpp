@@ -39,9 +39,10 @@ void append_decomposition(Decomposition& a, const Decomposition& b) {
 
 Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
                             int count, int size, int batch) {
-  const size_t image = 3 * static_cast<size_t>(size) * size;
+  const int channels = 3 + input_prior_channels(decomposer.network().config().input_prior);
+  const size_t image = static_cast<size_t>(channels) * size * size;
   check(count >= 0 && crops.size() == static_cast<size_t>(count) * image, "decompose_all: ", crops.size(),
-        " values are not ", count, " crops of 3x", size, "x", size);
+        " values are not ", count, " crops of ", channels, "x", size, "x", size);
   Decomposition all;
   decompose_in_batches(
       decomposer, backend, static_cast<size_t>(count), batch,

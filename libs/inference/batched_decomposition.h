@@ -11,7 +11,8 @@
 namespace facetool {
 
 // Runs the decomposer over `count` inputs in batches of `batch`. For each batch, load(k, inputs)
-// appends input k's planar linear RGB crop [3][S][S] to `inputs` for k = first .. first + n - 1;
+// appends input k's planar linear RGB crop [3][S][S] (and the network's input prior after it,
+// when it takes one: Decomposer::run) to `inputs` for k = first .. first + n - 1;
 // then use(first, d, inputs) gets the batch's results (d's image i is input first + i) and the
 // batch's inputs. Throws facetool::Error when batch < 1.
 void decompose_in_batches(Decomposer& decomposer, Backend& backend, size_t count, int batch,
@@ -19,8 +20,8 @@ void decompose_in_batches(Decomposer& decomposer, Backend& backend, size_t count
                           const std::function<void(size_t first, const Decomposition& d,
                                                    const std::vector<float>& inputs)>& use);
 
-// Runs the decomposer over `count` planar crops [count][3][size][size] in batches of `batch`
-// and concatenates the results.
+// Runs the decomposer over `count` planar crops [count][3+P][size][size] (P: the network's input
+// prior channels, Decomposer::run) in batches of `batch` and concatenates the results.
 Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
                             int count, int size, int batch);
 

@@ -14,10 +14,11 @@ Decomposer::Decomposer(NetworkPlugin& network, RendererPlugin& renderer)
 
 Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images, int count) {
   const int s = network_.config().input_size;
-  check(count > 0 && images.size() == static_cast<size_t>(count) * 3 * s * s,
-        "decomposer: expected ", count, " images of 3x", s, "x", s, " values");
+  const int channels = 3 + input_prior_channels(network_.config().input_prior);
+  check(count > 0 && images.size() == static_cast<size_t>(count) * channels * s * s,
+        "decomposer: expected ", count, " images of ", channels, "x", s, "x", s, " values");
   std::optional<StageTimer> timer(std::in_place, "network");
-  ag::Variable input(Tensor::from_host(backend, Shape{count, 3, s, s}, images));
+  ag::Variable input(Tensor::from_host(backend, Shape{count, channels, s, s}, images));
   NetworkOutputs out = network_.forward(input, false);
   backend.synchronize();
   timer.emplace("render");

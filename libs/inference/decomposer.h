@@ -24,8 +24,10 @@ class Decomposer {
  public:
   // Both plugins must outlive the decomposer; the network must be built and loaded.
   Decomposer(NetworkPlugin& network, RendererPlugin& renderer);
-  // `images`: N crops as planar linear RGB [N,3,S,S] on the host. Runs in eval mode on `backend`.
+  // `images`: N crops as planar linear RGB on the host, each followed by the network's input
+  // prior when it has one: [N,3+P,S,S] (NetworkPlugin::forward). Runs in eval mode on `backend`.
   Decomposition run(Backend& backend, const std::vector<float>& images, int count);
+  const NetworkPlugin& network() const { return network_; }
 
  private:
   NetworkPlugin& network_;

@@ -34,11 +34,19 @@ LoadedNetwork load_network_weights_file(PluginLoader& plugins, Backend& backend,
   return out;
 }
 
+void check_takes_photos_alone(const NetworkPlugin& network, const std::string& weights_path) {
+  const std::string& prior = network.config().input_prior;
+  check(prior.empty(), "weights '", weights_path, "' take the input prior '", prior,
+        "' beside the photo (the ICT-FaceKit fit's normals; docs/fit.md), which this path does not compute: ",
+        "use `facetool infer --face-model DIR` or `facetool eval` on samples that carry the prior, or a model without one");
+}
+
 DecompositionModel load_decomposition_model(PluginLoader& plugins, Backend& backend,
                                             const std::string& weights_path, const std::string& renderer) {
   DecompositionModel model;
   model.weights_path = weights_path.empty() ? default_model_path() : weights_path;
   LoadedNetwork loaded = load_network_weights_file(plugins, backend, model.weights_path);
+  check_takes_photos_alone(*loaded.network, model.weights_path);
   model.network = std::move(loaded.network);
   model.architecture = std::move(loaded.architecture);
   model.framing = loaded.framing;

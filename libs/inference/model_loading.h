@@ -39,6 +39,11 @@ struct LoadedNetwork {
 LoadedNetwork load_network_weights_file(PluginLoader& plugins, Backend& backend, const std::string& path,
                                         const std::string& architecture = "");
 
+// Throws facetool::Error naming `weights_path` when the network takes an input prior (the fit's
+// normals): for callers that feed crops alone (pseudo-label --model, the Python module); infer
+// and relight compute the prior (libs/photo), `facetool eval` reads it from the samples.
+void check_takes_photos_alone(const NetworkPlugin& network, const std::string& weights_path);
+
 // A network and a renderer ready for Decomposer (libs/inference/decomposer.h).
 struct DecompositionModel {
   std::shared_ptr<NetworkPlugin> network;

@@ -72,9 +72,21 @@ WeightsHeader read_weights_header(const SafeTensors& file, const std::string& pa
   const int version = parse_positive_int(get("format_version"), "format_version", path);
   check(version == kWeightsFormatVersion, "weights file '", path, "' has format version ", version,
         " but this facetool reads version ", kWeightsFormatVersion);
-  check(get("input") == "linear_rgb", "weights file '", path, "' expects input convention '",
-        get("input"), "', this facetool feeds 'linear_rgb'");
+  // "linear_rgb", or "linear_rgb+PRIOR" for a network that also takes an input prior.
+  const std::string& input = get("input");
+  const std::string rgb = "linear_rgb";
+  check(input.compare(0, rgb.size(), rgb) == 0 && (input.size() == rgb.size() || input[rgb.size()] == '+'),
+        "weights file '", path, "' expects input convention '", input, "', this facetool feeds 'linear_rgb' ",
+        "or 'linear_rgb+PRIOR'");
   WeightsHeader h;
+  if (input.size() > rgb.size()) {
+    h.config.input_prior = input.substr(rgb.size() + 1);
+    try {
+      input_prior_channels(h.config.input_prior);
+    } catch (const Error& e) {
+      throw Error("weights file '" + path + "': " + e.what() + " (written by a newer facetool?)");
+    }
+  }
   h.architecture = get("architecture");
   h.config.width = parse_positive_int(get("width"), "width", path);
   h.config.input_size = parse_positive_int(get("input_size"), "input_size", path);
@@ -106,7 +118,8 @@ void save_network_weights(const NetworkPlugin& net, const std::string& architect
   writer.set_metadata("architecture", architecture);
   writer.set_metadata("width", std::to_string(net.config().width));
   writer.set_metadata("input_size", std::to_string(net.config().input_size));
-  writer.set_metadata("input", "linear_rgb");
+  const std::string& prior = net.config().input_prior;
+  writer.set_metadata("input", prior.empty() ? "linear_rgb" : "linear_rgb+" + prior);
   if (framing != CropFraming{}) writer.set_metadata("framing", framing_text(framing));
   for (const auto& [name, variable] : net.parameters())
     writer.add(name, dims_of(variable.shape()), variable.value().to_host());

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "libs/face/frame_rotation.h"
+#include "libs/fit/fit_prior.h"
 #include "libs/face/photo_reader.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
@@ -40,6 +41,27 @@ PhotoDecomposer::PhotoDecomposer(FaceDetector& detector, Decomposer& decomposer,
   check(crop_size >= 8, "photo decomposer: the crop size must be at least 8 pixels (it is ", crop_size, ")");
   check(options.batch >= 1, "photo decomposer: the batch size must be at least 1 (it is ", options.batch, ")");
   check(options.feather >= 0, "photo decomposer: the feather must be 0 or more (it is ", options.feather, ")");
+  check(decomposer.network().config().input_prior.empty() || options.prior_basis != nullptr,
+        "photo decomposer: the network takes the input prior '", decomposer.network().config().input_prior,
+        "' (the fit's normals): give the face model (--face-model DIR)");
+}
+
+std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const NetworkConfig& network,
+                                  const FitBasis* prior_basis) {
+  const bool prior = !network.input_prior.empty();
+  check(!prior || prior_basis != nullptr, "the network takes the input prior '", network.input_prior,
+        "' (the fit's normals): give the face model (--face-model DIR)");
+  std::vector<float> inputs;
+  for (const FaceCrop& c : crops) {
+    inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+    if (!prior) continue;
+    LandmarkTarget target;
+    target.landmarks = c.alignment.crop_landmarks;
+    target.width = target.height = c.alignment.crop_size;
+    const std::vector<float> normals = fit_prior_normals(*prior_basis, target);
+    inputs.insert(inputs.end(), normals.begin(), normals.end());
+  }
+  return inputs;
 }
 
 std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options) {
@@ -74,8 +96,7 @@ DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& so
   check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
                       "pasting the faces back into " + (source.empty() ? std::string("the photo") : "photo '" + source + "'") +
                           " of " + std::to_string(photo.width) + "x" + std::to_string(photo.height) + " pixels");
-  std::vector<float> inputs;
-  for (const FaceCrop& c : crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+  const std::vector<float> inputs = network_inputs(crops, decomposer_.network().config(), options_.prior_basis);
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
                                         crop_size_, options_.batch);
   return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather,

@@ -20,6 +20,7 @@
 
 namespace facetool {
 
+class FitBasis;
 class PhotoFitter;
 
 struct PhotoInferOptions {
@@ -36,7 +37,16 @@ struct PhotoInferOptions {
   bool contact_sheet = true;
   int batch = 8;
   const PhotoFitter* with_fit = nullptr;  // --with-fit: the landmark fit too, in <photo folder>/fit/
+  // The face model for a network that takes the fit's normals as input (NetworkConfig::
+  // input_prior "fit_normal"; --face-model): each crop's landmarks fitted (fit_prior_normals).
+  const FitBasis* prior_basis = nullptr;
 };
+
+// What the network reads for `crops`: each crop's planar RGB, followed by its input prior when
+// `network` takes one (the fit of the crop's landmarks on `prior_basis`, which must then be
+// given; facetool::Error otherwise).
+std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const NetworkConfig& network,
+                                  const FitBasis* prior_basis);
 
 // PHOTO|DIR arguments as photo files: a folder gives its image files (by extension, sorted, not
 // recursive). Throws facetool::Error for a path that is neither.

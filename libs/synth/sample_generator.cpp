@@ -146,6 +146,14 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   s.fov_deg = camera.horizontal_fov_deg;
   s.width = camera.width;
   s.height = camera.height;
+  if (faces_.model && faces_.model->landmarks().size() == 68) {
+    const std::vector<int32_t>& vertices = faces_.model->landmarks();
+    if (std::all_of(vertices.begin(), vertices.end(), [](int32_t v) { return v >= 0; }))
+      for (const int32_t v : vertices) {
+        const std::array<double, 2> pixel = camera.project(mesh.positions[v]);
+        s.landmarks.insert(s.landmarks.end(), {pixel[0], pixel[1]});
+      }
+  }
 
   // Geometry buffers and visibility.
   const std::vector<Vec3f> normals = vertex_normals(mesh);

@@ -124,6 +124,7 @@ LayeredImage synth_sample_to_image(const SynthSample& s) {
   // Only when not v1's framing / when an edge was simulated: v1 samples stay as they were.
   if (!s.framing.empty()) image.set_metadata(key("framing"), s.framing);
   if (s.photo_edges > 0) image.set_metadata(key("photo_edges"), std::to_string(s.photo_edges));
+  if (!s.landmarks.empty()) image.set_metadata(key("landmarks"), format_numbers(s.landmarks.data(), s.landmarks.size()));
   image.set_metadata(key("layout"),
                      "light_sh: 27 SH coefficients, channel-major R0..R8 G0..G8 B0..B8; "
                      "pose_deg: roll pitch yaw; camera at (0,0,5.8) looking down -Z; "
@@ -159,6 +160,8 @@ SynthSample synth_sample_from_image(const LayeredImage& image, const std::string
   std::copy(light.begin(), light.end(), s.light.begin());
   if (const std::string* shape = image.find_metadata(key("shape"))) s.shape = *shape;
   if (const std::string* framing = image.find_metadata(key("framing"))) s.framing = *framing;
+  if (const std::string* landmarks = image.find_metadata(key("landmarks")))
+    s.landmarks = parse_numbers(*landmarks, 136, "landmarks", source);
   if (const std::string* edges = image.find_metadata(key("photo_edges")))
     s.photo_edges = (*edges == "1" || *edges == "2") ? std::stoi(*edges) : 0;
   s.settings = info.settings;

@@ -38,6 +38,9 @@ struct SynthSample {
   std::string settings;           // fingerprint of the generator settings (generator_settings.h)
   std::string framing;            // framing_text of the camera's framing; "" for v1's
   int photo_edges = 0;            // simulated photo edges crossing the crop (0, 1 or 2)
+  // The face model's 68 landmark vertices projected into the crop: x0 y0 x1 y1 ... in pixels
+  // (centres at integers), as prepare-real's facetool:landmarks; empty for a fixed mesh.
+  std::vector<double> landmarks;
   int64_t rays_cast = 0;          // visibility rays (not stored)
   // Where the time went, in thread CPU seconds (not stored): shape + pose + BVH + primary rays, visibility rays,
   // albedo + light + rendering + background.
@@ -47,7 +50,8 @@ struct SynthSample {
 };
 
 // Channel names in the EXR: R G B, albedo.R/G/B, normal.X/Y/Z, mask, visibility.0..8, depth.Z;
-// metadata keys start with "facetool:" (see docs/synthetic-data.md).
+// metadata keys start with "facetool:" (see docs/synthetic-data.md). Reading keeps only these
+// (other channels, such as an input prior, are read by libs/data/training_sample.h).
 LayeredImage synth_sample_to_image(const SynthSample& sample);
 SynthSample synth_sample_from_image(const LayeredImage& image, const std::string& source);
 

@@ -64,6 +64,7 @@ CheckpointState state_of(const SafeTensors& file, const std::string& path) {
   s.architecture = meta(file, path, "architecture");
   s.network.width = static_cast<int>(meta_int(file, path, "width"));
   s.network.input_size = static_cast<int>(meta_int(file, path, "input_size"));
+  if (auto it = file.metadata().find("input_prior"); it != file.metadata().end()) s.network.input_prior = it->second;
   return s;
 }
 
@@ -80,6 +81,7 @@ void save_checkpoint(const std::string& path, const NetworkPlugin& network,
   w.set_metadata("architecture", state.architecture);
   w.set_metadata("width", std::to_string(state.network.width));
   w.set_metadata("input_size", std::to_string(state.network.input_size));
+  if (!state.network.input_prior.empty()) w.set_metadata("input_prior", state.network.input_prior);
   for (const auto& [name, p] : network.parameters())
     w.add("network/" + name, dims(p.shape()), p.value().to_host());
   for (const auto& [name, t] : network.buffers()) w.add("network/" + name, dims(t.shape()), t.to_host());

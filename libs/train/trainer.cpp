@@ -38,6 +38,7 @@ DatasetReaderOptions reader_options(const TrainingConfig& c, const DataSource& s
   o.seed = c.seed;
   o.shuffle = !validation;
   o.require_labels = s.kind != "real";
+  o.input_prior = c.input_prior;
   o.holdout_every = c.validation_holdout_every;
   o.part = c.validation_holdout_every == 0 ? DatasetReaderOptions::Part::kAll
            : validation                    ? DatasetReaderOptions::Part::kValidation
@@ -69,6 +70,7 @@ SyntheticBatch rank_slice(const SyntheticBatch& b, int rank, int size) {
   out.mask = rows_of(b.mask, begin, end);
   out.visibility = rows_of(b.visibility, begin, end);
   out.light = rows_of(b.light, begin, end);
+  out.prior = rows_of(b.prior, begin, end);
   out.files.assign(b.files.begin() + begin, b.files.begin() + end);
   out.epoch = b.epoch;
   return out;
@@ -187,7 +189,7 @@ Trainer::Trainer(Backend& backend, TrainingConfig config, std::shared_ptr<Networ
     }
     sources_.push_back(std::move(source));
   }
-  network_->build(backend_, NetworkConfig{config_.width, config_.input_size});
+  network_->build(backend_, NetworkConfig{config_.width, config_.input_size, config_.input_prior});
   network_->init_random(config_.seed);
   AdamParams p;
   p.lr = static_cast<float>(config_.learning_rate);
@@ -203,12 +205,13 @@ Trainer::~Trainer() {
 
 void Trainer::restore(const std::string& checkpoint_path) {
   const CheckpointState s = read_checkpoint_state(checkpoint_path);
+  auto prior = [](const std::string& p) { return p.empty() ? std::string() : " with input prior " + p; };
   check(s.architecture == config_.network && s.network.width == config_.width &&
-            s.network.input_size == config_.input_size,
+            s.network.input_size == config_.input_size && s.network.input_prior == config_.input_prior,
         "checkpoint '", checkpoint_path, "' holds a ", s.architecture, " of width ",
-        s.network.width, " and input ", s.network.input_size, ", but '", config_.path,
-        "' asks for a ", config_.network, " of width ", config_.width, " and input ",
-        config_.input_size);
+        s.network.width, " and input ", s.network.input_size, prior(s.network.input_prior), ", but '",
+        config_.path, "' asks for a ", config_.network, " of width ", config_.width, " and input ",
+        config_.input_size, prior(config_.input_prior));
   // A damaged step count would be believed: a negative one rewrites the log to nothing, a huge
   // one ends the run at once claiming it trained.
   check(s.step >= 0 && s.step <= config_.steps, "checkpoint '", checkpoint_path,
@@ -277,7 +280,7 @@ StepRecord Trainer::step() {
       pixel_share = counts[0] > 0 ? local[0] / counts[0] : 0.0;
       image_share = local[1] / counts[1];
     }
-    const NetworkOutputs out = network_->forward(ag::Variable(batch.image), true);
+    const NetworkOutputs out = network_->forward(ag::Variable(batch.network_input()), true);
     // The light feeds the renderer, which would refuse it with a message naming neither the
     // step nor the cause: a non-finite light is divergence (the batch itself was checked when
     // it was read).
@@ -337,7 +340,7 @@ ValidationRecord Trainer::validate() {
   for (int b = 0; b < config_.validation_batches; ++b) {
     const SyntheticBatch batch = reader.next();
     if (b > 0 && batch.epoch > 0) break;  // the validation part is smaller than asked for
-    const NetworkOutputs out = network_->forward(ag::Variable(batch.image), false);
+    const NetworkOutputs out = network_->forward(ag::Variable(batch.network_input()), false);
     const std::vector<float> pred = out.normal.value().to_host(), target = batch.normal.to_host(),
                              mask = batch.mask.to_host();
     const Shape& s = batch.normal.shape();

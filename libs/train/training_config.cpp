@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/plugin/network_plugin.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/json_checks.h"
@@ -85,13 +86,19 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   c.name = r.text(root, "the file", "name", "", true);
   if (root.contains("network")) {
     const json& n = root.at("network");
-    r.only_keys(n, "network", {"plugin", "width", "input_size", "framing"});
+    r.only_keys(n, "network", {"plugin", "width", "input_size", "framing", "input_prior"});
     c.network = r.text(n, "network", "plugin", c.network, false);
     c.width = static_cast<int>(r.integer(n, "network", "width", c.width, false, 2, 4096));
     c.input_size =
         static_cast<int>(r.integer(n, "network", "input_size", c.input_size, false, 2, 4096));
     c.framing = parse_framing(r.text(n, "network", "framing", "v1", false),
                               "training config '" + path + "': network.framing");
+    c.input_prior = r.text(n, "network", "input_prior", "", false);
+    try {
+      input_prior_channels(c.input_prior);
+    } catch (const Error& e) {
+      throw Error("training config '" + path + "': network.input_prior: " + e.what());
+    }
   }
   c.renderer = r.text(root, "the file", "renderer", c.renderer, false);
   const json& o = root.contains("optimizer") ? root.at("optimizer") : json::object();

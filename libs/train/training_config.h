@@ -34,6 +34,9 @@ struct TrainingConfig {
   // network.framing: how the samples' crops are framed ("v1", "v2" or framing_text's form);
   // written into the weights (libs/model/network_weights.h) so infer frames photos the same way.
   CropFraming framing;
+  // network.input_prior: NetworkConfig::input_prior ("" or "fit_normal"); the samples of every
+  // source then carry the prior channels (libs/data/training_sample.h).
+  std::string input_prior = "";
   std::string renderer = "sh_renderer";
   double learning_rate = 1e-4, beta1 = 0.9, beta2 = 0.999, epsilon = 1e-8;
   int64_t steps = 1000;

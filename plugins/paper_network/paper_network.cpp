@@ -59,9 +59,10 @@ void PaperNetwork::build(Backend& be, const NetworkConfig& config) {
         "number >= 2, got ", config.width);
   check(config.input_size >= 2 && config.input_size % 2 == 0, "paper_network: input size must ",
         "be an even number >= 2, got ", config.input_size);
+  prior_channels_ = input_prior_channels(config.input_prior);
   config_ = config;
   const int64_t c = config.width;
-  stem1_ = ConvBnRelu(be, set_, "encoder.layer1", 3, c / 2, 7);
+  stem1_ = ConvBnRelu(be, set_, "encoder.layer1", 3 + prior_channels_, c / 2, 7);
   stem2_ = ConvBnRelu(be, set_, "encoder.layer2", c / 2, c, 3);
   stem_down_ = Conv(be, set_, "encoder.down", c, c, 3, 2, leaky_relu_gain());
   albedo_residual_ = ResidualStack(be, set_, "albedo_residual", c);
@@ -108,7 +109,7 @@ void PaperNetwork::init_random(uint64_t seed) {
 double PaperNetwork::forward_flops_per_image() const {
   const double c = config_.width, s = config_.input_size, h = s / 2;
   auto conv = [](double in, double out, double k, double res) { return 2 * in * out * k * k * res * res; };
-  double flops = conv(3, c / 2, 7, s) + conv(c / 2, c, 3, s) + conv(c, c, 3, h);
+  double flops = conv(3 + prior_channels_, c / 2, 7, s) + conv(c / 2, c, 3, s) + conv(c, c, 3, h);
   flops += 2 * 10 * conv(c, c, 3, h);                                           // residual stacks
   flops += 2 * (conv(c, c, 3, s) + conv(c, c / 2, 3, s)) + conv(c / 2, 3, 1, s) +  // decoders
            conv(c / 2, 12, 1, s);
@@ -182,7 +183,9 @@ NetworkOutputs PaperNetwork::forward_fused_chunk(const Tensor& images) const {
   NetworkOutputs out;
   out.albedo = ag::Variable(albedo_decoder_.infer(albedo_features, ConvEpilogue::Activation::Sigmoid));
   const Tensor shape = shape_decoder_.infer(shape_features, ConvEpilogue::Activation::None);
-  out.normal = ag::Variable(ops::l2_normalize(ops::slice_channels(shape, 0, 3)));
+  Tensor normal = ops::slice_channels(shape, 0, 3);
+  if (prior_channels_ > 0) normal = ops::add(normal, ops::slice_channels(images, 3, 3));
+  out.normal = ag::Variable(ops::l2_normalize(normal));
   out.visibility = ag::Variable(ops::slice_channels(shape, 3, 9));
   const Tensor joint = ops::concat_channels({features, albedo_features, shape_features});
   out.light = light_fc_(ag::Variable(ops::global_avg_pool(light_conv_.infer(joint))));
@@ -192,9 +195,10 @@ NetworkOutputs PaperNetwork::forward_fused_chunk(const Tensor& images) const {
 NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) {
   check(built_, "paper_network: forward() before build()");
   const Shape& s = images.shape();
-  check(s.rank() == 4 && s.c() == 3 && s.h() == config_.input_size && s.w() == config_.input_size,
-        "paper_network: expected images of shape [N, 3, ", config_.input_size, ", ",
-        config_.input_size, "], got ", s.str());
+  check(s.rank() == 4 && s.c() == 3 + prior_channels_ && s.h() == config_.input_size &&
+            s.w() == config_.input_size,
+        "paper_network: expected images of shape [N, ", 3 + prior_channels_, ", ", config_.input_size,
+        ", ", config_.input_size, "]", prior_channels_ ? " (RGB and the input prior)" : "", ", got ", s.str());
   // Evaluation that nothing will differentiate runs fused where the backend has fused ops;
   // FACETOOL_PLAIN_OPS=1 (or ops::set_fused_paths_enabled(false)) keeps the plain path below.
   if (!training && !images.requires_grad() && ops::fused_paths_enabled() &&
@@ -208,7 +212,11 @@ NetworkOutputs PaperNetwork::forward(const ag::Variable& images, bool training) 
   NetworkOutputs out;
   out.albedo = ag::sigmoid(albedo_decoder_(albedo_features, training));
   ag::Variable shape = shape_decoder_(shape_features, training);
-  out.normal = ag::l2_normalize(ag::slice_channels(shape, 0, 3));
+  // With the fit's normals as input, the shape branch predicts a correction added to them (a
+  // network that outputs 0 there returns the fit); off the fitted face the prior is 0.
+  ag::Variable normal = ag::slice_channels(shape, 0, 3);
+  if (prior_channels_ > 0) normal = ag::add(normal, ag::slice_channels(images, 3, 3));
+  out.normal = ag::l2_normalize(normal);
   out.visibility = ag::slice_channels(shape, 3, 9);
   ag::Variable joint = ag::concat_channels({features, albedo_features, shape_features});
   out.light = light_fc_(ag::global_avg_pool(light_conv_(joint, training)));

@@ -52,6 +52,7 @@ class PaperNetwork final : public NetworkPlugin {
   NetworkOutputs forward_fused_chunk(const Tensor& images) const;  // one chunk of images
 
   NetworkConfig config_;
+  int prior_channels_ = 0;  // input_prior_channels(config_.input_prior)
   bool built_ = false;
   ParameterSet set_;
   // 'Conv.': C/2(k7) - C(k3) - C*(k3, stride 2, no BN)

@@ -36,11 +36,12 @@ int64_t count_parameters(const NetworkPlugin& net) {
   return total;
 }
 
-// The paper's architecture counted layer by layer (every convolution has a bias).
-int64_t expected_parameter_count(int64_t c) {
+// The paper's architecture counted layer by layer (every convolution has a bias); `in` input
+// channels (3, or 6 with the fit's normals as input prior).
+int64_t expected_parameter_count(int64_t c, int64_t in = 3) {
   auto conv = [](int64_t in, int64_t out, int64_t k) { return in * out * k * k + out; };
   auto bn = [](int64_t ch) { return 2 * ch; };
-  const int64_t stem = conv(3, c / 2, 7) + bn(c / 2) + conv(c / 2, c, 3) + bn(c) + conv(c, c, 3);
+  const int64_t stem = conv(in, c / 2, 7) + bn(c / 2) + conv(c / 2, c, 3) + bn(c) + conv(c, c, 3);
   const int64_t block = bn(c) + conv(c, c, 3) + bn(c) + conv(c, c, 3);
   const int64_t residual = 5 * block + bn(c);
   auto decoder = [&](int64_t out) {
@@ -278,11 +279,12 @@ TEST(PaperNetwork, WeightsRoundTripAndMismatchErrors) {
   std::filesystem::remove_all(dir);
 }
 
-// Finite differences on a small network in training mode, for a sample of parameters.
-TEST(PaperNetwork, TrainingGradientsMatchFiniteDifferences) {
+// Finite differences on a small network in training mode, for a sample of parameters; `channels`
+// input channels (3 + the prior's).
+void expect_gradients_match_finite_differences(const NetworkConfig& config, int64_t channels) {
   Backend& be = get_backend("cpu");
-  auto net = make_network(be, NetworkConfig{4, 8}, 8);
-  Tensor images = random_tensor(be, Shape{2, 3, 8, 8}, 9, 0.0f, 1.0f);
+  auto net = make_network(be, config, 8);
+  Tensor images = random_tensor(be, Shape{2, channels, 8, 8}, 9, 0.0f, 1.0f);
   Tensor wa = random_tensor(be, Shape{2, 3, 8, 8}, 10);
   Tensor wv = random_tensor(be, Shape{2, 9, 8, 8}, 11);
   Tensor wl = random_tensor(be, Shape{2, 27}, 12);
@@ -332,6 +334,133 @@ TEST(PaperNetwork, TrainingGradientsMatchFiniteDifferences) {
   }
   EXPECT_GT(checked, 100);
   EXPECT_LT(skipped * 5, checked) << skipped << " samples straddled a kink";
+}
+
+TEST(PaperNetwork, TrainingGradientsMatchFiniteDifferences) {
+  expect_gradients_match_finite_differences(NetworkConfig{4, 8}, 3);
+}
+
+// With the fit's normals as input prior: the stem takes 6 channels and the normal is the prior
+// plus the shape branch's correction.
+TEST(PaperNetworkWithPrior, TrainingGradientsMatchFiniteDifferences) {
+  expect_gradients_match_finite_differences(NetworkConfig{4, 8, "fit_normal"}, 6);
+}
+
+// Random unit normals as the prior, 0 (no fitted face) in a band of rows, after 3 random image
+// channels: [n, 6, s, s].
+Tensor image_and_prior(Backend& be, int64_t n, int64_t s, unsigned seed) {
+  std::vector<float> values = testing::random_values(static_cast<size_t>(n * 6 * s * s), seed, 0.0f, 1.0f);
+  const int64_t plane = s * s;
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t p = 0; p < plane; ++p) {
+      float* v[3];
+      for (int c = 0; c < 3; ++c) v[c] = &values[static_cast<size_t>((i * 6 + 3 + c) * plane + p)];
+      *v[0] = 2 * *v[0] - 1;
+      *v[1] = 2 * *v[1] - 1;
+      *v[2] = 0.2f + *v[2];  // towards the camera, so the length is at least 0.2
+      const float length = std::sqrt(*v[0] * *v[0] + *v[1] * *v[1] + *v[2] * *v[2]);
+      const bool off_face = p / s < s / 4;
+      for (int c = 0; c < 3; ++c) *v[c] = off_face ? 0.0f : *v[c] / length;
+    }
+  return Tensor::from_host(be, Shape{n, 6, s, s}, values);
+}
+
+TEST(PaperNetworkWithPrior, ParametersShapesAndFusedEval) {
+  Backend& be = get_backend("cpu");
+  for (const int64_t batch : {int64_t{1}, int64_t{20}}) {
+    auto net = make_network(be, NetworkConfig{26, 14, "fit_normal"}, 3);
+    EXPECT_EQ(count_parameters(*net), expected_parameter_count(26, 6));
+    unsigned seed = 70;
+    for (auto& [name, buffer] : net->buffers()) {
+      const bool is_var = name.find("running_var") != std::string::npos;
+      buffer.copy_from_host(testing::random_values(static_cast<size_t>(buffer.numel()), ++seed,
+                                                   is_var ? 0.5f : -0.3f, is_var ? 2.0f : 0.3f));
+    }
+    ag::Variable images(image_and_prior(be, batch, 14, 5));
+    ops::set_fused_paths_enabled(false);
+    NetworkOutputs plain = net->forward(images, false);
+    ops::set_fused_paths_enabled(true);
+    NetworkOutputs fused = net->forward(images, false);
+    EXPECT_EQ(plain.normal.shape(), (Shape{batch, 3, 14, 14}));
+    EXPECT_TRUE(all_close(fused.normal.value().to_host(), plain.normal.value().to_host(), 1e-4, 1e-4)) << batch;
+    EXPECT_TRUE(all_close(fused.albedo.value().to_host(), plain.albedo.value().to_host(), 1e-4, 1e-4)) << batch;
+    EXPECT_TRUE(all_close(fused.light.value().to_host(), plain.light.value().to_host(), 1e-4, 1e-4)) << batch;
+  }
+}
+
+// A shape branch whose output layer is zero adds nothing: the normal is the prior itself (a
+// closed form, on both paths); where the prior is 0 the output is whatever l2_normalize gives 0.
+TEST(PaperNetworkWithPrior, ZeroCorrectionReturnsThePrior) {
+  Backend& be = get_backend("cpu");
+  auto net = make_network(be, NetworkConfig{8, 16, "fit_normal"}, 4);
+  int zeroed = 0;
+  for (auto& [name, parameter] : net->parameters())
+    if (name.rfind("shape_decoder.out", 0) == 0) {
+      parameter.value().copy_from_host(std::vector<float>(static_cast<size_t>(parameter.value().numel()), 0.0f));
+      ++zeroed;
+    }
+  ASSERT_EQ(zeroed, 2) << "the shape decoder's output layer (weight and bias) was not found";
+  const Tensor input = image_and_prior(be, 2, 16, 9);
+  const std::vector<float> values = input.to_host();
+  for (const bool fused : {false, true}) {
+    ops::set_fused_paths_enabled(fused);
+    const std::vector<float> normal = net->forward(ag::Variable(input), false).normal.value().to_host();
+    const int64_t plane = 16 * 16;
+    int compared = 0;
+    for (int64_t i = 0; i < 2; ++i)
+      for (int64_t p = 0; p < plane; ++p) {
+        if (p / 16 < 4) continue;  // no prior there
+        for (int c = 0; c < 3; ++c) {
+          const float prior = values[static_cast<size_t>((i * 6 + 3 + c) * plane + p)];
+          ASSERT_NEAR(normal[static_cast<size_t>((i * 3 + c) * plane + p)], prior, 1e-5f)
+              << (fused ? "fused" : "plain") << " image " << i << " pixel " << p;
+        }
+        ++compared;
+      }
+    EXPECT_EQ(compared, 2 * 12 * 16);
+  }
+  ops::set_fused_paths_enabled(true);
+}
+
+TEST(PaperNetworkWithPrior, WeightsRecordThePriorAndRefuseOtherInputs) {
+  Backend& be = get_backend("cpu");
+  auto net = make_network(be, NetworkConfig{8, 16, "fit_normal"}, 6);
+  const auto dir = std::filesystem::temp_directory_path() / "facetool_network_prior_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "prior.safetensors").string();
+  save_network_weights(*net, "paper_network", path);
+  const SafeTensors file = SafeTensors::read_file(path);
+  EXPECT_EQ(file.metadata().at("input"), "linear_rgb+fit_normal");
+  const WeightsHeader header = read_weights_header(file, path);
+  EXPECT_EQ(header.config.input_prior, "fit_normal");
+  auto copy = make_network(be, header.config, 99);
+  load_network_weights(*copy, file, path);
+  const ag::Variable input(image_and_prior(be, 1, 16, 3));
+  EXPECT_EQ(net->forward(input, false).normal.value().to_host(), copy->forward(input, false).normal.value().to_host());
+  // A network without the prior has a 3-channel stem: the weights do not fit it.
+  auto plain = make_network(be, NetworkConfig{8, 16}, 1);
+  EXPECT_THROW(load_network_weights(*plain, file, path), Error);
+  // Only RGB images: refused, saying what it expects.
+  try {
+    net->forward(ag::Variable(random_tensor(be, Shape{1, 3, 16, 16}, 2, 0.0f, 1.0f)), false);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("[N, 6, 16, 16] (RGB and the input prior)"), std::string::npos) << e.what();
+  }
+  // An input prior this facetool does not know: refused, naming the file.
+  SafeTensorsWriter other;
+  for (const std::string& name : file.names()) other.add(name, file.entry(name).shape, file.floats(name));
+  for (const auto& [k, v] : file.metadata()) other.set_metadata(k, k == "input" ? "linear_rgb+depth" : v);
+  other.write_file(path);
+  try {
+    read_weights_header(SafeTensors::read_file(path), path);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown network input prior 'depth'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(make_network(be, NetworkConfig{8, 16, "depth"}, 1), Error);
+  std::filesystem::remove_all(dir);
 }
 
 // The whole network on every other backend against cpu, forward and backward, random weights.

@@ -358,11 +358,12 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
       decomposer, backend, files.size(), batch,
       [&](size_t k, std::vector<float>& planes) {
         if (planes.empty()) samples.clear();
-        samples.push_back(read_training_sample(files[k], false));
+        samples.push_back(read_training_sample(files[k], false, network->config().input_prior));
         const TrainingSample& s = samples.back();
         check(s.width == size && s.height == size, "sample '", files[k], "' is ", s.width,
               "x", s.height, " but the network takes ", size, "x", size);
         planes.insert(planes.end(), s.image.begin(), s.image.end());
+        planes.insert(planes.end(), s.prior.begin(), s.prior.end());  // the input prior, if any
       },
       [&](size_t first, const Decomposition& d, const std::vector<float>&) {
         const int count = d.count;

@@ -44,8 +44,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are face crops, one face each: aligned by their landmarks when a face is found in the (padded) crop, otherwise stretched to the network's input (reported)")
       ("stretch", "with --aligned: stretch every crop to the network's input as it is, without looking for its landmarks (crops already in the network's framing, e.g. synth samples)")
-      ("with-fit", "also fit the ICT-FaceKit model to every face and write `facetool fit`'s files in <name>/fit/ (docs/fit.md)")
-      ("face-model", po::value<std::string>()->value_name("DIR"), "--with-fit: the ICT-FaceKit FaceXModel folder");
+      ("with-fit", "also fit the ICT-FaceKit model to every face and write `facetool fit`'s files in <name>/fit/ (docs/fit.md)");
   add_network_options(options);
   add_fit_options(options);
   add_photo_infer_options(options);
@@ -147,11 +146,12 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   }
   const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   const int size = network->config().input_size;
+  // --face-model: loaded once for --with-fit and for a network that takes the fit's normals.
+  const std::shared_ptr<const FitBasis> basis = load_face_model(values, loaded);
+  photo_options.prior_basis = loaded.network->config().input_prior.empty() ? nullptr : basis.get();
   std::unique_ptr<PhotoFitter> fitter;
   if (values.count("with-fit")) {
-    fitter = std::make_unique<PhotoFitter>(
-        std::make_shared<const FitBasis>(FitBasis::load(values["face-model"].as<std::string>())),
-        fit_options_from(values));
+    fitter = std::make_unique<PhotoFitter>(basis, fit_options_from(values));
     photo_options.with_fit = fitter.get();
   }
   if (!aligned) {
@@ -170,6 +170,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<std::string> stretched;  // crops without a face found, in input order
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
+  std::vector<float> batch_rgb;  // the batch's crops alone (the network's inputs may add a prior)
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");
   decompose_in_batches(
       decomposer, backend, files.size(), batch,
@@ -179,12 +180,18 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           std::cerr << "\n'" << files[k] << "': " << input.reason << "; stretched to the network's input as it is\n";
           stretched.push_back(files[k]);
         }
-        inputs.insert(inputs.end(), input.rgb.begin(), input.rgb.end());
+        check(!photo_options.prior_basis || input.by_landmarks, "'", files[k], "': the model takes the fit of the face's ",
+              "landmarks as input, and no landmarks were found in this crop (", input.reason.empty() ? "--stretch" : input.reason,
+              "); leave it out or use a model without an input prior");
+        const std::vector<float> one = network_inputs({input.crop}, network->config(), photo_options.prior_basis);
+        if (inputs.empty()) batch_rgb.clear();
+        inputs.insert(inputs.end(), one.begin(), one.end());
+        batch_rgb.insert(batch_rgb.end(), input.crop.rgb.begin(), input.crop.rgb.end());
       },
-      [&](size_t first, const Decomposition& d, const std::vector<float>& inputs) {
+      [&](size_t first, const Decomposition& d, const std::vector<float>&) {
         for (int i = 0; i < d.count; ++i) {
-          write_decomposition((fs::path(out_dir) / stems[first + i]).string(), d, i, inputs, files[first + i]);
-          if (!values.count("no-contact-sheet")) sheet_rows.push_back(contact_sheet_row(d, i, inputs));
+          write_decomposition((fs::path(out_dir) / stems[first + i]).string(), d, i, batch_rgb, files[first + i]);
+          if (!values.count("no-contact-sheet")) sheet_rows.push_back(contact_sheet_row(d, i, batch_rgb));
         }
         if (values.count("raw-output")) {
           raw_albedo.insert(raw_albedo.end(), d.albedo.begin(), d.albedo.end());

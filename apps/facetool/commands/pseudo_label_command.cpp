@@ -10,12 +10,14 @@
 #include "apps/facetool/commands/trained_model.h"
 #include "apps/facetool/fit/fit_options.h"
 #include "libs/fit/fit_labels.h"
+#include "libs/fit/fit_prior.h"
 #include "libs/model/default_model.h"
 #include "core/util/shard.h"
 #include "core/backend/registry.h"
 #include "libs/data/training_sample.h"
 #include "libs/inference/batched_decomposition.h"
 #include "libs/inference/decomposer.h"
+#include "libs/inference/model_loading.h"
 #include "libs/io/exr_io.h"
 #include "core/plugin/renderer_plugin.h"
 #include "libs/synth/synth_sample.h"
@@ -74,9 +76,20 @@ LayeredImage labelled_sample(const FaceInput& in, const Decomposition& d, int in
   return out;
 }
 
-// --from fit: each prepare-real sample labelled by the fit to its landmarks.
+// A sample's own seed for --landmark-noise: its name (FNV-1a), so that a rerun and every shard
+// draw the same noise.
+uint64_t name_seed(const std::string& file) {
+  uint64_t h = 1469598103934665603ull;
+  for (const unsigned char c : fs::path(file).filename().string()) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+// --from fit: each sample with crop landmarks labelled by the fit to them (or, --prior-only,
+// given the fit's normals as the network's input prior, its labels kept).
 int pseudo_label_from_fit(const std::vector<std::string>& files, const std::string& out_dir,
                           int shard_index, int shard_count, const po::variables_map& values) {
+  const bool prior_only = values.count("prior-only") != 0;
+  const double noise = values["landmark-noise"].as<double>();
   const PhotoFitOptions options = fit_options_from(values);
   const FitBasis basis = FitBasis::load(values["face-model"].as<std::string>());
   const VisibilitySampler sampler(options.direction_count);
@@ -87,15 +100,17 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
   for (const std::string& file : files) {
     check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
-          "needs the samples of `facetool prepare-real` (their facetool:landmarks)");
+          "needs the samples of `facetool prepare-real` or `facetool synth` (their facetool:landmarks)");
     const LayeredImage sample = read_exr(file);
     const std::string name = fs::path(file).filename().string();
     write_exr_atomically((fs::path(out_dir) / name).string(),
-                         fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
+                         prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
+                                    : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
     progress.advance();
   }
   progress.finish();
-  std::cerr << "wrote " << files.size() << " fit-labelled samples to " << out_dir << "\n";
+  std::cerr << "wrote " << files.size() << (prior_only ? " samples with the fit's normals as input prior" : " fit-labelled samples")
+            << " to " << out_dir << "\n";
   return 0;
 }
 
@@ -117,6 +132,11 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
       ("from", po::value(&from)->default_value("network")->value_name("network|fit"),
        "where the labels come from: the trained network, or the ICT-FaceKit fit to the samples' landmarks")
       ("face-model", po::value<std::string>()->value_name("DIR"), "--from fit: the ICT-FaceKit FaceXModel folder")
+      ("prior-only", "--from fit: keep the samples' labels (synthetic ones, or network labels) and add only the "
+       "fit's normals as the network's input prior (channels prior.X/Y/Z; no visibility is cast)")
+      ("landmark-noise", po::value<double>()->default_value(0.0)->value_name("F"),
+       "--prior-only: move each landmark by a normal deviate of F x the inter-ocular distance in x and y before "
+       "fitting (a detector's error, for synthetic samples, whose landmarks are exact; seeded by the file name)")
       ("model", po::value(&model)->value_name("WEIGHTS"),
        "trained weights (stage 1's weights.safetensors; default: the shipped model)")
       ("output,o", po::value(&out_dir)->value_name("DIR")->required(), "output folder")
@@ -139,16 +159,22 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
           "written as sample_<n>.exr in input order with a mask of 1 everywhere).\n\nWith --from fit "
           "(prepare-real samples only): the ICT-FaceKit model fitted to each sample's\nlandmarks gives "
           "the normals, visibility and mask; light and a smooth albedo follow from the\nsample's pixels by "
-          "least squares (docs/fit.md).",
+          "least squares (docs/fit.md). Every fit-labelled sample also carries the fitted normals as\n"
+          "the input prior of a network trained with network.input_prior \"fit_normal\" (channels prior.X/Y/Z);\n"
+          "--prior-only adds just those, to synthetic samples (`synth` writes their landmarks) or labelled ones.",
           options, positional, args, values, hidden))
     return 0;
   std::vector<OptionRange> ranges = fit_option_ranges();
   ranges.push_back({"batch", 1, 1024});
+  ranges.push_back({"landmark-noise", 0, 1});
   check_option_ranges(values, ranges);
   if (from != "network" && from != "fit") throw UsageError("pseudo-label: --from must be network or fit; got '" + from + "'");
   if (from == "fit" && !values.count("face-model"))
     throw UsageError(std::string("pseudo-label --from fit: give --face-model DIR: ") + kIctFaceKitHint);
   if (from == "fit" && values.count("model")) throw UsageError("pseudo-label: --model is for --from network");
+  if (from != "fit" && values.count("prior-only")) throw UsageError("pseudo-label: --prior-only is for --from fit");
+  if (!values.count("prior-only") && !values["landmark-noise"].defaulted())
+    throw UsageError("pseudo-label: --landmark-noise is for --prior-only");
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
   if (model.empty() && from == "network") model = default_model_path();
   if (batch < 1) throw UsageError("pseudo-label: --batch must be at least 1");
@@ -181,6 +207,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
 
   Backend& backend = get_backend(context.backend);
   auto network = load_trained_network(context, backend, model);
+  check_takes_photos_alone(*network, model);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;

@@ -151,6 +151,8 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
   photo_options.framing = loaded.framing;  // crops framed as the model was trained
+  const std::shared_ptr<const FitBasis> basis = load_face_model(values, loaded);  // a model with an input prior
+  photo_options.prior_basis = basis.get();
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
   const int size = loaded.network->config().input_size;

@@ -16,13 +16,13 @@ AlignedInput read_aligned_input(const std::string& path, int size, FaceDetector*
     one.max_faces = 1;
     const std::vector<DetectedFace> faces = detector->detect(image, one);
     if (!faces.empty()) {
-      input.rgb = crop_face(image, faces[0], size, options.extend_forehead).rgb;
+      input.crop = crop_face(image, faces[0], size, options.extend_forehead, options.framing);
       input.by_landmarks = true;
       return input;
     }
     input.reason = no_face_reason(image, one);
   }
-  input.rgb = resize_planar(planar_from_rgb(image), 3, image.width, image.height, size, size);
+  input.crop.rgb = resize_planar(planar_from_rgb(image), 3, image.width, image.height, size, size);
   return input;
 }
 

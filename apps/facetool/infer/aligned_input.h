@@ -10,14 +10,15 @@
 namespace facetool {
 
 struct AlignedInput {
-  std::vector<float> rgb;     // planar linear RGB [3][size*size]
+  FaceCrop crop;              // crop.rgb: planar linear RGB [3][size*size]; the alignment when by_landmarks
   bool by_landmarks = false;  // aligned by its landmarks (false: stretched)
   std::string reason;         // why it was stretched: no face found (empty otherwise)
 };
 
 // Reads `path` (8-bit: sRGB; EXR/HDR/PFM: linear) and, with a detector, looks for its best face
 // (the photo options' detection, padded as for photos, one face): found, the crop is the
-// similarity alignment of photos (pixels beyond the image's edge repeat the edge); not found,
+// similarity alignment of photos at the options' framing (its border fill beyond the image's
+// edge); not found,
 // or without a detector (--stretch), the image is resized to size x size as before.
 AlignedInput read_aligned_input(const std::string& path, int size, FaceDetector* detector,
                                 const PhotoInferOptions& options);

@@ -16,7 +16,9 @@ void add_network_options(po::options_description& options) {
       ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
       ("width", po::value<int>()->default_value(128), "network width for --init random")
       ("input-size", po::value<int>()->default_value(128), "network input size for --init random")
-      ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)");
+      ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
+      ("face-model", po::value<std::string>()->value_name("DIR"),
+       "the ICT-FaceKit FaceXModel folder: for a model that takes the fit's normals as input (docs/fit.md), and infer --with-fit");
 }
 
 std::vector<OptionRange> network_option_ranges() {
@@ -42,6 +44,10 @@ LoadedNetwork load_network(CommandContext& context, const po::variables_map& val
     const std::string path =
         values.count("model") ? values["model"].as<std::string>() : default_model_path();
     out = load_network_weights_file(context, backend, path, out.architecture);
+    const std::string& prior = out.network->config().input_prior;
+    if (!prior.empty() && !values.count("face-model"))
+      throw UsageError("weights '" + path + "' take the input prior '" + prior + "' (the fit of each face's landmarks, " +
+                       "docs/fit.md): give --face-model DIR. " + kIctFaceKitHint);
   } else {
     if (out.architecture.empty()) out.architecture = "paper_network";
     out.network = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, out.architecture);
@@ -49,6 +55,12 @@ LoadedNetwork load_network(CommandContext& context, const po::variables_map& val
     out.network->init_random(values["seed"].as<uint64_t>());
   }
   return out;
+}
+
+std::shared_ptr<const FitBasis> load_face_model(const po::variables_map& values, const LoadedNetwork& loaded) {
+  const bool wanted = values.count("with-fit") || !loaded.network->config().input_prior.empty();
+  if (!wanted || !values.count("face-model")) return nullptr;
+  return std::make_shared<const FitBasis>(FitBasis::load(values["face-model"].as<std::string>()));
 }
 
 }  // namespace facetool

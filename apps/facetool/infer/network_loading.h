@@ -11,10 +11,11 @@
 #include "core/backend/backend.h"
 #include "libs/inference/model_loading.h"
 #include "core/plugin/network_plugin.h"
+#include "libs/fit/fit_basis.h"
 
 namespace facetool {
 
-// --model, --init, --seed, --width, --input-size, --network.
+// --model, --init, --seed, --width, --input-size, --network, --face-model.
 void add_network_options(boost::program_options::options_description& options);
 
 // Valid ranges of --seed, --width and --input-size (for check_option_ranges).
@@ -30,8 +31,14 @@ LoadedNetwork load_network_weights_file(CommandContext& context, Backend& backen
 
 // Builds the network on `backend` from --model's weights, else the shipped model's
 // (default_model.h; architecture from the file unless --network says otherwise, which must then
-// agree), or with --init random weights.
+// agree), or with --init random weights. Weights that take the fit's normals as input need
+// --face-model (UsageError otherwise).
 LoadedNetwork load_network(CommandContext& context, const boost::program_options::variables_map& values,
                            Backend& backend);
+
+// --face-model's ICT-FaceKit model when something needs it (--with-fit, or a network with an
+// input prior), else null.
+std::shared_ptr<const FitBasis> load_face_model(const boost::program_options::variables_map& values,
+                                                const LoadedNetwork& loaded);
 
 }  // namespace facetool

@@ -1,0 +1,81 @@
+// Reading a sample's crop landmarks, jittering them, and adding the fit's normals as prior channels.
+#include "libs/fit/fit_prior.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/util/error.h"
+#include "libs/fit/fit_render.h"
+#include "libs/synth/random.h"
+
+namespace facetool {
+
+LandmarkTarget read_sample_landmarks(const LayeredImage& sample, const std::string& source) {
+  const std::string* text = sample.find_metadata("facetool:landmarks");
+  check(text != nullptr, "sample '", source, "' has no facetool:landmarks: the fit needs the samples of ",
+        "`facetool prepare-real`, or of `facetool synth` from a face model (this version writes them)");
+  LandmarkTarget target;
+  target.width = sample.width;
+  target.height = sample.height;
+  std::istringstream in(*text);
+  for (Point2& p : target.landmarks)
+    check(static_cast<bool>(in >> p.x >> p.y) && std::isfinite(p.x) && std::isfinite(p.y), "sample '", source,
+          "': facetool:landmarks does not hold 136 finite numbers");
+  return target;
+}
+
+Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint64_t seed) {
+  check(fraction >= 0 && std::isfinite(fraction), "landmark noise must be a fraction >= 0, got ", fraction);
+  auto centre = [&](int first) {
+    Point2 c{0, 0};
+    for (int i = first; i < first + 6; ++i) c = {c.x + landmarks[i].x / 6, c.y + landmarks[i].y / 6};
+    return c;
+  };
+  const Point2 a = centre(36), b = centre(42);
+  const double sigma = fraction * std::hypot(a.x - b.x, a.y - b.y);
+  Random random(seed);
+  Landmarks68 out = landmarks;
+  for (Point2& p : out) {
+    p.x += sigma * random.normal();
+    p.y += sigma * random.normal();
+  }
+  return out;
+}
+
+LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals) {
+  const size_t plane = sample.plane_size();
+  check(normals.size() == 3 * plane, "prior: expected ", 3 * plane, " normal values, got ", normals.size());
+  const char* names[3] = {"prior.X", "prior.Y", "prior.Z"};
+  std::vector<std::string> channels = sample.channel_names;
+  for (const char* name : names)
+    if (std::find(channels.begin(), channels.end(), name) == channels.end()) channels.push_back(name);
+  LayeredImage out(sample.width, sample.height, channels);
+  for (int c = 0; c < sample.channel_count(); ++c)
+    std::copy(sample.plane(c), sample.plane(c) + plane, out.plane(out.find_channel(sample.channel_names[c])));
+  for (int c = 0; c < 3; ++c)
+    std::copy(normals.begin() + c * plane, normals.begin() + (c + 1) * plane, out.plane(out.find_channel(names[c])));
+  out.metadata = sample.metadata;
+  return out;
+}
+
+std::vector<float> fit_prior_normals(const FitBasis& basis, const LandmarkTarget& target, const FitSettings& settings) {
+  FitRenderSettings render;
+  render.visibility = false;
+  return render_fit(basis.model(), fit_landmarks(basis, target, settings), nullptr, render).normal;
+}
+
+LayeredImage fit_prior_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
+                              const FitSettings& settings, double landmark_noise, uint64_t seed) {
+  LandmarkTarget target = read_sample_landmarks(sample, source);
+  if (landmark_noise > 0) target.landmarks = jitter_landmarks(target.landmarks, landmark_noise, seed);
+  LayeredImage out = with_prior_channels(sample, fit_prior_normals(basis, target, settings));
+  char noise[40];
+  std::snprintf(noise, sizeof noise, "%.4g", landmark_noise);
+  out.set_metadata("facetool:input_prior", "fit_normal");
+  out.set_metadata("facetool:prior_landmark_noise", noise);
+  return out;
+}
+
+}  // namespace facetool
