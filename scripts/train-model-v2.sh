@@ -119,14 +119,18 @@ step_prior-stage2() {
   train_run "$WORK/prior-stage2.json" "$WORK/prior-stage2" --from "$WORK/prior-stage1/weights.safetensors"
 }
 
-# Held-out figures of both stages: synthetic (Table 1 form), real (PSNR and SSIM beside the
-# blurred photo's, by group; the normals against the fit's labels), a contact sheet of 24
-# held-out UTKFace photos (every k-th of the sorted list, so the same 24 each time) and, where
-# ../shared has yaleb-dev, the photometric-stereo benchmark with the fit beside it.
+# Held-out figures of every trained stage of both networks (one not trained yet is skipped):
+# synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
+# against the fit's labels), a contact sheet of 24 held-out UTKFace photos (every k-th of the
+# sorted list, so the same 24 each time) and, where ../shared has yaleb-dev, the
+# photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2; do
-    eval_stage "$stage" "$WORK/synthetic-heldout" "$WORK/real-fit-heldout"
+  for stage in stage1 stage2 prior-stage1 prior-stage2; do
+    [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
+    local synthetic=$WORK/synthetic-heldout
+    [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
+    eval_stage "$stage" "$synthetic" "$WORK/real-fit-heldout"
     /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
       "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
     local photos=() k=0 f
@@ -135,7 +139,8 @@ step_eval() {
     for f in "${all[@]}"; do
       if [ $((k++ % every)) -eq 0 ] && [ ${#photos[@]} -lt 24 ]; then photos+=("$f"); fi
     done
-    "$FACETOOL" infer --model "$WORK/$stage/weights.safetensors" --aligned "${photos[@]}" \
+    # --face-model: used by the prior network only (the fit of each crop's landmarks).
+    "$FACETOOL" infer --model "$WORK/$stage/weights.safetensors" --face-model "$FACE_MODEL" --aligned "${photos[@]}" \
       -o "$WORK/eval/$stage-utkface24" > /dev/null || [ $? -eq 1 ]  # 1: a photo without a face
     if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
       [ -d "$WORK/yaleb/ps" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" ps > /dev/null
@@ -144,13 +149,6 @@ step_eval() {
       /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" relight --facetool "$FACETOOL" \
         --model "$WORK/$stage/weights.safetensors" --name "v2-$stage" --markdown "$WORK/eval/$stage-relight.md" > /dev/null
     fi
-  done
-  # The prior network on the same held-out data (photos: not yet; infer feeds photo crops alone).
-  for stage in prior-stage1 prior-stage2; do
-    [ -e "$WORK/$stage/weights.safetensors" ] || continue
-    eval_stage "$stage" "$WORK/synthetic-heldout-prior" "$WORK/real-fit-heldout"
-    /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
-      "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
   done
   if [ -d "$SHARED/assets/faces/yaleb-dev" ]; then
     [ -d "$WORK/yaleb/pred/fit" ] || /usr/bin/python3 scripts/yaleb_benchmark.py --cache "$WORK/yaleb" \

@@ -30,6 +30,7 @@ import math
 import os
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import warnings
@@ -471,13 +472,36 @@ def find_facetool(path):
     fail("no facetool program: build it (scripts/build.sh) or pass --facetool BIN")
 
 
+def takes_fit_prior(weights):
+    """Whether a weights file's network takes the fit's normals as input (its safetensors header's
+    metadata 'input' is linear_rgb+fit_normal, docs/model-format.md)."""
+    if not weights:
+        return False
+    with open(weights, "rb") as f:
+        size = struct.unpack("<Q", f.read(8))[0]
+        header = json.loads(f.read(size))
+    return header.get("__metadata__", {}).get("input", "linear_rgb") != "linear_rgb"
+
+
+def model_options(args):
+    """--model (when given) and, for a model with the fit prior, --face-model."""
+    weights = getattr(args, "model", None)
+    if not weights:
+        return []
+    return ["--model", weights] + (["--face-model", args.face_model] if takes_fit_prior(weights) else [])
+
+
 def command_infer(args):
     facetool = find_facetool(args.facetool)
     photos = eval_photos(args.data)
     pred = os.path.join(args.cache, "pred")
     name = getattr(args, "name", None) or "infer"
-    model = ["--model", args.model] if getattr(args, "model", None) else []
-    for label, extra in ((name, []), (name + "-aligned", ["--aligned", "--stretch"])):
+    model = model_options(args)
+    variants = [(name, [])]
+    # Stretched crops have no landmarks, so a model with the fit prior cannot take them.
+    if not takes_fit_prior(getattr(args, "model", None)):
+        variants.append((name + "-aligned", ["--aligned", "--stretch"]))
+    for label, extra in variants:
         out = os.path.join(pred, label)
         make_clean(out)
         print(f"facetool infer {' '.join(model + extra)} on {len(photos)} photos -> {out}", flush=True)
@@ -568,7 +592,7 @@ def command_relight(args):
     photos = eval_photos(args.data)
     padded = padded_photos(args, photos)
     name = args.name or "relight"
-    model = ["--model", args.model] if args.model else []
+    model = model_options(args)
     out = os.path.join(args.cache, "relight", name)
     make_clean(out)
     rows = {"unchanged frontal photo": [], f"{name}, light from the target photo": [],
@@ -916,10 +940,14 @@ def main():
     p.add_argument("--model", help="trained weights for infer (default: the shipped model)")
     p.add_argument("--name", help="the prediction folders' name under CACHE/pred (default: infer; "
                                   "then NAME-aligned and NAME-padded)")
+    p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
+                   help="the ICT-FaceKit FaceXModel folder, for a model with the fit prior (default: ../shared's)")
     p = sub.add_parser("relight", help="relight the frontal photos to the +-25 degree lights; PSNR")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--model", help="trained weights for relight (default: the shipped model)")
     p.add_argument("--name", help="the results' name (default: relight)")
+    p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
+                   help="the ICT-FaceKit FaceXModel folder, for a model with the fit prior (default: ../shared's)")
     p.add_argument("--markdown", help="also write the table to this file")
     p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
     p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")

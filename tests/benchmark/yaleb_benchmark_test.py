@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Tests of scripts/yaleb_benchmark.py on synthetic data: the PS solver, the light convention, the scorer, the template's warp."""
+import json
 import math
 import os
+import struct
 import sys
 import tempfile
 import unittest
@@ -133,6 +135,27 @@ class RelightYaw(unittest.TestCase):
             t = math.radians(yb.relight_yaw(a))
             turned = np.array([math.sin(t), 0.0, math.cos(t)])  # Ry(t) (0, 0, 1)
             np.testing.assert_allclose(turned, yb.light_direction(a, 0), atol=1e-12)
+
+
+class FitPriorModels(unittest.TestCase):
+    def test_reads_the_input_convention_from_the_weights_header(self):
+        """A safetensors header written by hand (8-byte length, JSON): linear_rgb+fit_normal takes
+        the fit prior and gets --face-model; linear_rgb and no model do not."""
+        with tempfile.TemporaryDirectory() as tmp:
+            def weights(name, input_convention):
+                header = json.dumps({"__metadata__": {"format": "facetool-network", "input": input_convention}}).encode()
+                path = os.path.join(tmp, name)
+                with open(path, "wb") as f:
+                    f.write(struct.pack("<Q", len(header)) + header)
+                return path
+            prior, plain = weights("prior.safetensors", "linear_rgb+fit_normal"), weights("plain.safetensors", "linear_rgb")
+            self.assertTrue(yb.takes_fit_prior(prior))
+            self.assertFalse(yb.takes_fit_prior(plain))
+            self.assertFalse(yb.takes_fit_prior(None))
+            args = type("Args", (), {"model": prior, "face_model": "/ict"})()
+            self.assertEqual(yb.model_options(args), ["--model", prior, "--face-model", "/ict"])
+            args.model = plain
+            self.assertEqual(yb.model_options(args), ["--model", plain])
 
 
 class Scorer(unittest.TestCase):
