@@ -26,6 +26,16 @@ LandmarkTarget read_sample_landmarks(const LayeredImage& sample, const std::stri
   return target;
 }
 
+Landmarks68 add_landmark_noise(const Landmarks68& landmarks, double sigma_px, uint64_t seed) {
+  Random random(seed);
+  Landmarks68 out = landmarks;
+  for (Point2& p : out) {
+    p.x += sigma_px * random.normal();
+    p.y += sigma_px * random.normal();
+  }
+  return out;
+}
+
 Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint64_t seed) {
   check(fraction >= 0 && std::isfinite(fraction), "landmark noise must be a fraction >= 0, got ", fraction);
   auto centre = [&](int first) {
@@ -34,14 +44,7 @@ Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint
     return c;
   };
   const Point2 a = centre(36), b = centre(42);
-  const double sigma = fraction * std::hypot(a.x - b.x, a.y - b.y);
-  Random random(seed);
-  Landmarks68 out = landmarks;
-  for (Point2& p : out) {
-    p.x += sigma * random.normal();
-    p.y += sigma * random.normal();
-  }
-  return out;
+  return add_landmark_noise(landmarks, fraction * std::hypot(a.x - b.x, a.y - b.y), seed);
 }
 
 LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals) {

@@ -17,6 +17,10 @@ namespace facetool {
 // `source` when they are missing or malformed.
 LandmarkTarget read_sample_landmarks(const LayeredImage& sample, const std::string& source);
 
+// Moves every landmark by a normal deviate of standard deviation `sigma_px` in x and in y, drawn
+// from `seed`.
+Landmarks68 add_landmark_noise(const Landmarks68& landmarks, double sigma_px, uint64_t seed);
+
 // Moves every landmark by a normal deviate of standard deviation `fraction` x the inter-ocular
 // distance (between the centres of points 36-41 and 42-47) in x and in y, drawn from `seed`: a
 // detector's error, for synthetic samples whose landmarks are exact.

@@ -25,7 +25,6 @@
 namespace facetool {
 namespace {
 
-using testing::add_noise;
 using testing::make_synthetic_face;
 using testing::mean_normal_error_deg;
 using testing::SyntheticFace;
@@ -95,7 +94,7 @@ TEST_F(FitSynthetic, RecoversPoseAndNormalsFromNoisyLandmarks) {
     pose.pitch_deg = poses.uniform(-10, 10);
     pose.roll_deg = poses.uniform(-15, 15);
     const SyntheticFace face = make_synthetic_face(basis_->model(), 100 + k, pose);
-    const Outcome o = fit_and_score(face, add_noise(face.landmarks, 1.0, 200 + k));
+    const Outcome o = fit_and_score(face, add_landmark_noise(face.landmarks, 1.0, 200 + k));
     std::printf("face %d: yaw %.1f pitch %.1f roll %.1f -> pose error %.2f deg, normals %.2f deg over %.1f %% "
                 "of the mask, landmark RMS %.2f px, fit %.2f ms (%d iterations)\n",
                 k, pose.yaw_deg, pose.pitch_deg, pose.roll_deg, o.pose_error_deg, o.normal_error_deg,
@@ -115,7 +114,7 @@ TEST_F(FitSynthetic, FaceTurnedTwentyFiveDegrees) {
     pose.yaw_deg = yaw;
     pose.pitch_deg = 5;
     const SyntheticFace face = make_synthetic_face(basis_->model(), 300, pose);
-    const Outcome o = fit_and_score(face, add_noise(face.landmarks, 1.0, 301));
+    const Outcome o = fit_and_score(face, add_landmark_noise(face.landmarks, 1.0, 301));
     std::printf("yaw %.0f: pose error %.2f deg, normals %.2f deg over %.1f %% of the mask\n", yaw,
                 o.pose_error_deg, o.normal_error_deg, 100 * o.coverage);
     EXPECT_LT(o.pose_error_deg, 3.0);
@@ -128,7 +127,7 @@ TEST_F(FitSynthetic, OneLandmarkMovedThirtyPixelsBarelyChangesTheNormals) {
   HeadPose pose;
   pose.yaw_deg = 10;
   const SyntheticFace face = make_synthetic_face(basis_->model(), 400, pose);
-  const Landmarks68 clean = add_noise(face.landmarks, 1.0, 401);
+  const Landmarks68 clean = add_landmark_noise(face.landmarks, 1.0, 401);
   for (int moved : {30, 48, 57}) {  // nose tip, mouth corner, lower lip
     Landmarks68 bad = clean;
     bad[moved].x += 30 * 0.6;
@@ -156,7 +155,7 @@ TEST_F(FitSynthetic, SamePersonSharesOneIdentity) {
     pose.yaw_deg = yaws[k];
     faces.push_back(make_synthetic_face(basis_->model(), 500, pose));  // one seed: one identity
     LandmarkTarget t;
-    t.landmarks = add_noise(faces.back().landmarks, 1.0, 510 + k);
+    t.landmarks = add_landmark_noise(faces.back().landmarks, 1.0, 510 + k);
     t.width = t.height = 256;
     targets.push_back(t);
   }
@@ -296,7 +295,7 @@ TEST_F(FitSynthetic, Measure) {
           pose.roll_deg = random.uniform(-10, 10);
           const double fov = random.uniform(20, 25);
           const SyntheticFace face = make_synthetic_face(basis_->model(), 2000 + 100 * b + k, pose, 256, fov, true);
-          Landmarks68 landmarks = add_noise(face.landmarks, 1.0, 3000 + 100 * b + k);
+          Landmarks68 landmarks = add_landmark_noise(face.landmarks, 1.0, 3000 + 100 * b + k);
           if (source == 1) {
             DetectionOptions options;
             options.min_face_size = 60;

@@ -49,16 +49,6 @@ SyntheticFace make_synthetic_face(const FaceModel& model, uint64_t seed, const H
   return f;
 }
 
-Landmarks68 add_noise(const Landmarks68& landmarks, double sigma, uint64_t seed) {
-  Random random(seed);
-  Landmarks68 out = landmarks;
-  for (Point2& p : out) {
-    p.x += sigma * random.normal();
-    p.y += sigma * random.normal();
-  }
-  return out;
-}
-
 double mean_normal_error_deg(const SyntheticFace& face, const std::vector<float>& normal,
                              const std::vector<uint8_t>& covered, double* coverage) {
   const size_t plane = face.truth.pixel_count();

@@ -31,9 +31,6 @@ struct SyntheticFace {
 SyntheticFace make_synthetic_face(const FaceModel& model, uint64_t seed, const HeadPose& pose,
                                   int size = 256, double fov_deg = 22.5, bool expressions = false);
 
-// Adds N(0, sigma^2) pixel noise to every landmark.
-Landmarks68 add_noise(const Landmarks68& landmarks, double sigma, uint64_t seed);
-
 // Mean angle (degrees) between the fitted normals (planar [3]) and the truth over the pixels of
 // the true mask that the fit also covers; `coverage` gets the covered fraction of the true mask.
 double mean_normal_error_deg(const SyntheticFace& face, const std::vector<float>& normal,
