@@ -88,8 +88,22 @@ write_config() {
   sed "${edits[@]}" "configs/facetool-v2-$stage.json" > "$path"
 }
 
+# A run not started in $WORK starts from the checkpoint committed between sittings, if there is
+# one (checkpoints/facetool-v2/RUN/: checkpoint.safetensors and log.jsonl, under 20 MB; removed
+# when the model ships), so that a fresh machine goes on where the last sitting stopped. Not for
+# a trial (STEPS or BATCH set): its schedule is not the checkpoint's.
+seed_from_repository() {
+  local run=$1 saved=checkpoints/facetool-v2/$1
+  [ -z "${STEPS:-}${BATCH:-}" ] || return 0
+  [ ! -e "$WORK/$run/checkpoint.safetensors" ] && [ -e "$saved/checkpoint.safetensors" ] || return 0
+  mkdir -p "$WORK/$run"
+  cp "$saved/checkpoint.safetensors" "$saved/log.jsonl" "$WORK/$run/"
+  echo "$run: starting from the committed checkpoint in $saved"
+}
+
 step_stage1() {
   write_config stage1 "$WORK/stage1.json"
+  seed_from_repository stage1
   train_run "$WORK/stage1.json" "$WORK/stage1"
 }
 
@@ -111,6 +125,7 @@ step_prior-data() {
 
 step_prior-stage1() {
   write_config prior-stage1 "$WORK/prior-stage1.json"
+  seed_from_repository prior-stage1
   train_run "$WORK/prior-stage1.json" "$WORK/prior-stage1"
 }
 
