@@ -50,8 +50,6 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
     add(normal[c], rendering.normal.data() + c * plane);
   }
   for (int j = 0; j < 9; ++j) add("visibility." + std::to_string(j), rendering.visibility.data() + j * plane);
-  const char* prior[3] = {"prior.X", "prior.Y", "prior.Z"};  // the same normals as the network's input prior
-  for (int c = 0; c < 3; ++c) add(prior[c], rendering.normal.data() + c * plane);
   LayeredImage out(sample.width, sample.height, names);
   for (size_t k = 0; k < names.size(); ++k)
     std::copy(planes[names[k]], planes[names[k]] + plane, out.plane(static_cast<int>(k)));
@@ -64,11 +62,9 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   }
   out.set_metadata("facetool:light_sh", light);
   out.set_metadata("facetool:pseudo_labels", label);
-  out.set_metadata("facetool:input_prior", "fit_normal");
-  out.set_metadata("facetool:prior_landmark_noise", "0");
   std::snprintf(buffer, sizeof buffer, "%.4g", fit.rms_px);
   out.set_metadata("facetool:fit_landmark_rms_px", buffer);
-  return out;
+  return with_prior_channels(out, rendering.normal, 0.0);  // the same normals as the input prior
 }
 
 }  // namespace facetool

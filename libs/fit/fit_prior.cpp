@@ -47,7 +47,8 @@ Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint
   return add_landmark_noise(landmarks, fraction * std::hypot(a.x - b.x, a.y - b.y), seed);
 }
 
-LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals) {
+LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals,
+                                 double landmark_noise) {
   const size_t plane = sample.plane_size();
   check(normals.size() == 3 * plane, "prior: expected ", 3 * plane, " normal values, got ", normals.size());
   const char* names[3] = {"prior.X", "prior.Y", "prior.Z"};
@@ -60,6 +61,10 @@ LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<f
   for (int c = 0; c < 3; ++c)
     std::copy(normals.begin() + c * plane, normals.begin() + (c + 1) * plane, out.plane(out.find_channel(names[c])));
   out.metadata = sample.metadata;
+  char noise[40];
+  std::snprintf(noise, sizeof noise, "%.4g", landmark_noise);
+  out.set_metadata("facetool:input_prior", "fit_normal");
+  out.set_metadata("facetool:prior_landmark_noise", noise);
   return out;
 }
 
@@ -73,12 +78,7 @@ LayeredImage fit_prior_sample(const LayeredImage& sample, const std::string& sou
                               const FitSettings& settings, double landmark_noise, uint64_t seed) {
   LandmarkTarget target = read_sample_landmarks(sample, source);
   if (landmark_noise > 0) target.landmarks = jitter_landmarks(target.landmarks, landmark_noise, seed);
-  LayeredImage out = with_prior_channels(sample, fit_prior_normals(basis, target, settings));
-  char noise[40];
-  std::snprintf(noise, sizeof noise, "%.4g", landmark_noise);
-  out.set_metadata("facetool:input_prior", "fit_normal");
-  out.set_metadata("facetool:prior_landmark_noise", noise);
-  return out;
+  return with_prior_channels(sample, fit_prior_normals(basis, target, settings), landmark_noise);
 }
 
 }  // namespace facetool

@@ -27,8 +27,10 @@ Landmarks68 add_landmark_noise(const Landmarks68& landmarks, double sigma_px, ui
 Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint64_t seed);
 
 // `sample` with planar normals [3][plane] (the fit's, 0 off the fitted head) as channels
-// prior.X/Y/Z, replacing them when present; other channels and the attributes kept.
-LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals);
+// prior.X/Y/Z, replacing them when present, and facetool:input_prior = "fit_normal",
+// facetool:prior_landmark_noise = `landmark_noise`; other channels and attributes kept.
+LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals,
+                                 double landmark_noise);
 
 // The prior itself: the fit of `target` (a crop's landmarks at the crop's size) rendered without
 // visibility: planar normals [3][width * height], camera frame, 0 off the fitted head. The same

@@ -157,7 +157,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
           "synthetic samples. Inputs: sample EXRs of `facetool prepare-real`\n(kept whole, same "
           "file name, their mask used) or plain face crops (PNG/JPEG decoded from sRGB,\nresized; "
           "written as sample_<n>.exr in input order with a mask of 1 everywhere).\n\nWith --from fit "
-          "(prepare-real samples only): the ICT-FaceKit model fitted to each sample's\nlandmarks gives "
+          "(samples with crop landmarks: prepare-real's and synth's): the ICT-FaceKit model fitted to each sample's\nlandmarks gives "
           "the normals, visibility and mask; light and a smooth albedo follow from the\nsample's pixels by "
           "least squares (docs/fit.md). Every fit-labelled sample also carries the fitted normals as\n"
           "the input prior of a network trained with network.input_prior \"fit_normal\" (channels prior.X/Y/Z);\n"
