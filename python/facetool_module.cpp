@@ -152,8 +152,8 @@ struct Photo {
 class Model;
 
 // Photo-pipeline options of decompose(), as keyword arguments.
-PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_score, bool forehead,
-                                double feather, int batch) {
+PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_score,
+                                const std::string& face_region, double feather, int batch) {
   if (max_faces < 0) throw py::value_error("max_faces must be 0 (all) or more");
   if (!(min_face_size >= 0)) throw py::value_error("min_face_size must be 0 (automatic) or more");
   if (!(feather >= 0) || feather > 256) throw py::value_error("feather must be between 0 and 256 crop pixels");
@@ -163,7 +163,11 @@ PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_
   o.detection.max_faces = max_faces;
   o.detection.min_face_size = min_face_size;
   o.detection.score_threshold = min_score;
-  o.extend_forehead = forehead;
+  try {
+    o.region = parse_face_region(face_region, "face_region");
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
   o.feather = feather;
   o.batch = batch;
   return o;
@@ -345,19 +349,19 @@ PYBIND11_MODULE(_facetool, m) {
            "Loads `weights` (.safetensors; None: the shipped model) on `backend` (see facetool.backends()).\n"
            "`landmark_model`: dlib's 68-point predictor (None: Debian libdlib-data's; research use only).")
       .def("decompose", [](Model& model, const py::handle& image, int max_faces, double min_face_size, double min_score,
-                           bool forehead, double feather, int batch) {
+                           const std::string& face_region, double feather, int batch) {
              RgbImage photo = image_from_array(image, "image");
-             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, forehead, feather, batch);
+             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
              py::gil_scoped_release release;
              return model.decompose(std::move(photo), "", options);
            },
            py::arg("image"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
-           py::arg("min_score") = 0.25, py::arg("forehead") = false, py::arg("feather") = 3.0, py::arg("batch") = 8,
+           py::arg("min_score") = 0.25, py::arg("face_region") = "auto", py::arg("feather") = 3.0, py::arg("batch") = 8,
            "Finds every face of `image` ((H, W, 3) uint8 sRGB or float linear RGB), aligns it, decomposes it and\n"
            "pastes the results back. Returns a facetool.Photo; raises facetool.Error when no face is found.")
       .def("decompose_file", [](Model& model, const std::string& path, int max_faces, double min_face_size,
-                                double min_score, bool forehead, double feather, int batch) {
-             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, forehead, feather, batch);
+                                double min_score, const std::string& face_region, double feather, int batch) {
+             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
              py::gil_scoped_release release;
              RgbImage photo;
              try {
@@ -368,7 +372,7 @@ PYBIND11_MODULE(_facetool, m) {
              return model.decompose(std::move(photo), path, options);
            },
            py::arg("path"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
-           py::arg("min_score") = 0.25, py::arg("forehead") = false, py::arg("feather") = 3.0, py::arg("batch") = 8,
+           py::arg("min_score") = 0.25, py::arg("face_region") = "auto", py::arg("feather") = 3.0, py::arg("batch") = 8,
            "decompose() of an image file (8-bit files decoded from sRGB, EXR/HDR linear).")
       .def("relight", [](Model& model, const Photo& photo, const py::handle& light, const std::string& mode,
                          bool visibility, double ratio_epsilon) {

@@ -59,13 +59,15 @@ step_synth() {
     -o "$WORK/synthetic" --contact-sheet "$WORK/synthetic-sheet.png"
 }
 
-# UTKFace photos aligned at the v2 framing, split by v1's held-out rule.
+# UTKFace photos aligned at the v2 framing, split by v1's held-out rule. Their masks stay the
+# landmark hull: the fit labels' light and albedo are solved where the hull and the fit agree, so
+# fringes of hair on the forehead stay out of the solve (the labels' mask is the fit's).
 step_real() {
   split_utkface
   local part
   for part in train heldout; do
     "$FACETOOL" prepare-real "$WORK/utkface/$part" --size "$SIZE" --framing "$FRAMING" \
-      --max-edge-cut "$MAX_EDGE_CUT" -o "$WORK/real-$part"
+      --face-region hull --max-edge-cut "$MAX_EDGE_CUT" -o "$WORK/real-$part"
   done
 }
 

@@ -29,6 +29,7 @@ import json
 import math
 import os
 import re
+import shlex
 import shutil
 import struct
 import subprocess
@@ -496,7 +497,7 @@ def command_infer(args):
     photos = eval_photos(args.data)
     pred = os.path.join(args.cache, "pred")
     name = getattr(args, "name", None) or "infer"
-    model = model_options(args)
+    model = model_options(args) + shlex.split(getattr(args, "infer_args", None) or "")
     variants = [(name, [])]
     # Stretched crops have no landmarks, so a model with the fit prior cannot take them.
     if not takes_fit_prior(getattr(args, "model", None)):
@@ -942,6 +943,7 @@ def main():
                                   "then NAME-aligned and NAME-padded)")
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
                    help="the ICT-FaceKit FaceXModel folder, for a model with the fit prior (default: ../shared's)")
+    p.add_argument("--infer-args", help="more options for every infer run, one string (e.g. '--forehead')")
     p = sub.add_parser("relight", help="relight the frontal photos to the +-25 degree lights; PSNR")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--model", help="trained weights for relight (default: the shipped model)")

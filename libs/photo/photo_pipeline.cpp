@@ -64,6 +64,18 @@ std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const Netw
   return inputs;
 }
 
+FaceRegion parse_face_region(const std::string& text, const std::string& what) {
+  if (text == "auto") return FaceRegion::kAuto;
+  if (text == "hull") return FaceRegion::kHull;
+  if (text == "forehead") return FaceRegion::kForehead;
+  fail(what, " must be auto, hull or forehead, not '", text, "'");
+}
+
+bool PhotoInferOptions::extends_forehead() const {
+  if (region == FaceRegion::kAuto) return framing != v1_framing();
+  return region == FaceRegion::kForehead;
+}
+
 std::unique_ptr<FaceDetector> make_face_detector(const PhotoInferOptions& options) {
   auto detector = std::make_unique<FaceDetector>(options.landmark_model, options.cnn_model);
   detector->prepare(options.detection.detector);
@@ -74,7 +86,7 @@ std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& ph
                                       const PhotoInferOptions& options) {
   std::vector<FaceCrop> crops;
   for (const DetectedFace& f : detector.detect(photo, options.detection))
-    crops.push_back(crop_face(photo, f, crop_size, options.extend_forehead, options.framing));
+    crops.push_back(crop_face(photo, f, crop_size, options.extends_forehead(), options.framing));
   return crops;
 }
 

@@ -23,11 +23,20 @@ namespace facetool {
 class FitBasis;
 class PhotoFitter;
 
+// Where each face's results paste back (--face-region): the landmarks' convex hull, or the hull
+// extended over the forehead (libs/face/face_mask.h). kAuto: the forehead hull for models at any
+// framing but v1's (their stage-2 labels, the fit's mask, cover the forehead, as synthetic
+// samples' masks do), the hull at v1's (whose real samples' masks were the hull).
+enum class FaceRegion { kAuto, kHull, kForehead };
+
+// "auto", "hull", "forehead"; parse_face_region throws facetool::Error naming `what`.
+FaceRegion parse_face_region(const std::string& text, const std::string& what);
+
 struct PhotoInferOptions {
   DetectionOptions detection;
   std::string landmark_model = kDefaultLandmarkModel;
   std::string cnn_model = kDefaultCnnFaceModel;  // --cnn-model
-  bool extend_forehead = false;  // --forehead
+  FaceRegion region = FaceRegion::kAuto;  // --face-region
   double feather = 3.0;          // --feather, crop pixels
   // --upsample: albedo and normals pasted back guided by the photo (the default) or bilinear.
   Upsample upsample = Upsample::kGuided;
@@ -40,6 +49,9 @@ struct PhotoInferOptions {
   // The face model for a network that takes the fit's normals as input (NetworkConfig::
   // input_prior "fit_normal"; --face-model): each crop's landmarks fitted (fit_prior_normals).
   const FitBasis* prior_basis = nullptr;
+
+  // Whether the face region extends over the forehead: `region`, with kAuto resolved by `framing`.
+  bool extends_forehead() const;
 };
 
 // What the network reads for `crops`: each crop's planar RGB, followed by its input prior when

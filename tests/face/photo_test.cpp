@@ -13,6 +13,7 @@
 #include "libs/face/frame_rotation.h"
 #include "core/sh/sh_eval.h"
 #include "libs/face/photo_reader.h"
+#include "libs/photo/photo_pipeline.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {
@@ -80,6 +81,48 @@ TEST_F(PhotoTest, EachExamplePhotoHasExactlyOneFace) {
                     p.y >= f.top - 0.15 * f.size() && p.y <= f.bottom + 0.15 * f.size();
     EXPECT_EQ(inside_box, kLandmarkCount) << name;
     std::printf("%s: score %.2f, box %.0f px\n", name, f.score, f.size());
+  }
+}
+
+// --face-region: the forehead hull covers the hull and reaches above it; auto is the hull at
+// v1's framing and the forehead hull at v2's (documented in docs/photos.md, "Mask").
+TEST_F(PhotoTest, FaceRegionChoosesTheMaskAndAutoFollowsTheFraming) {
+  const RgbImage photo = read_photo(example("grace_hopper_512x512.jpg"));
+  struct Region { double area = 0; int top = -1; std::vector<float> mask; };
+  auto region = [&](FaceRegion r, const CropFraming& framing) {
+    PhotoInferOptions o;
+    o.region = r;
+    o.framing = framing;
+    const std::vector<FaceCrop> crops = find_face_crops(*detector_, photo, 96, o);
+    Region out;
+    if (crops.size() != 1) return out;
+    out.mask = crops[0].mask;
+    for (size_t p = 0; p < out.mask.size(); ++p) {
+      out.area += out.mask[p];
+      if (out.mask[p] > 0.5f && out.top < 0) out.top = static_cast<int>(p / 96);
+    }
+    return out;
+  };
+  for (const CropFraming& framing : {v1_framing(), v2_framing()}) {
+    const Region hull = region(FaceRegion::kHull, framing);
+    const Region forehead = region(FaceRegion::kForehead, framing);
+    ASSERT_GT(hull.area, 500);
+    // The forehead's lift is 0.45 of chin-to-brows: about 1.5x the hull's area on the template.
+    EXPECT_GT(forehead.area, 1.25 * hull.area);
+    EXPECT_LT(forehead.area, 1.9 * hull.area);
+    EXPECT_LT(forehead.top, hull.top - 5);
+    for (size_t p = 0; p < hull.mask.size(); ++p) ASSERT_LE(hull.mask[p], forehead.mask[p]) << p;
+    const bool v1 = framing == v1_framing();
+    EXPECT_EQ(region(FaceRegion::kAuto, framing).mask, (v1 ? hull : forehead).mask);
+  }
+  EXPECT_EQ(parse_face_region("forehead", "--face-region"), FaceRegion::kForehead);
+  EXPECT_EQ(parse_face_region("hull", "--face-region"), FaceRegion::kHull);
+  try {
+    parse_face_region("brows", "--face-region");
+    ADD_FAILURE() << "no error for 'brows'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--face-region must be auto, hull or forehead, not 'brows'"),
+              std::string::npos) << e.what();
   }
 }
 

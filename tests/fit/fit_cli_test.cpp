@@ -7,14 +7,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "libs/face/face_detector.h"
+#include "libs/fit/fit_basis.h"
+#include "libs/fit/fit_prior.h"
 #include "libs/io/exr_io.h"
 #include "libs/io/image_io.h"
+#include "libs/model/safetensors.h"
+#include "core/util/math_constants.h"
 
 namespace fs = std::filesystem;
 
@@ -340,6 +347,56 @@ TEST_F(FitCliTest, APriorNetworkTrainsAndEvaluatesOnSamplesThatCarryIt) {
   EXPECT_NE(read_text(at("log")).find("wall.png': the model takes the fit"), std::string::npos) << read_text(at("log"));
   EXPECT_EQ(run("relight --light-from " + at("photos/grace_hopper_512x512.jpg") + with_model + at("photos/astronaut.png") + " -o " + at("relit"), at("log")), 0)
       << read_text(at("log"));
+
+  // What infer feeds is the fit of the crop's landmarks: with the shape decoder's output zeroed
+  // the network returns its prior (network_test), so the face's crop-level normals must equal
+  // fit_prior_normals of the landmarks faces.json records, mapped into the crop.
+  const SafeTensors trained = SafeTensors::read_file(weights);
+  SafeTensorsWriter zeroed;
+  for (const auto& [key, value] : trained.metadata()) zeroed.set_metadata(key, value);
+  int zeroed_tensors = 0;
+  for (const std::string& name : trained.names()) {
+    std::vector<float> values = trained.floats(name);
+    if (name.rfind("shape_decoder.out.", 0) == 0) {
+      std::fill(values.begin(), values.end(), 0.0f);
+      ++zeroed_tensors;
+    }
+    zeroed.add(name, trained.entry(name).shape, std::move(values));
+  }
+  ASSERT_EQ(zeroed_tensors, 2) << "the shape decoder's output layer (weight and bias) was not found";
+  zeroed.write_file(at("zeroed.safetensors"));
+  ASSERT_EQ(run("infer --model " + at("zeroed.safetensors") + " --face-model " + model_ + " " +
+                at("photos/grace_hopper_512x512.jpg") + " -o " + at("zero"), at("log")), 0) << read_text(at("log"));
+  const nlohmann::json face = nlohmann::json::parse(read_text(dir_ / "zero/grace_hopper_512x512/faces.json"))["faces"][0];
+  const auto& m = face["photo_to_crop"];
+  LandmarkTarget target;
+  target.width = target.height = face["crop_size"].get<int>();
+  for (int i = 0; i < kLandmarkCount; ++i) {
+    const double x = face["landmarks"][i][0].get<double>(), y = face["landmarks"][i][1].get<double>();
+    target.landmarks[i] = {m[0][0].get<double>() * x + m[0][1].get<double>() * y + m[0][2].get<double>(),
+                           m[1][0].get<double>() * x + m[1][1].get<double>() * y + m[1][2].get<double>()};
+  }
+  const std::vector<float> prior = fit_prior_normals(FitBasis::load(model_), target);
+  const LayeredImage normal = read_exr((dir_ / "zero/grace_hopper_512x512/face_0/normal.exr").string());
+  const size_t plane = static_cast<size_t>(target.width) * target.height;
+  ASSERT_EQ(static_cast<size_t>(normal.width) * normal.height, plane);
+  ASSERT_EQ(normal.find_channel("X"), 0);
+  ASSERT_EQ(normal.find_channel("Z"), 2);
+  const float* n[3] = {normal.plane(0), normal.plane(1), normal.plane(2)};
+  double angle_sum = 0;
+  int covered = 0;
+  for (size_t p = 0; p < plane; ++p) {
+    const double px = prior[p], py = prior[plane + p], pz = prior[2 * plane + p];
+    if (px * px + py * py + pz * pz < 0.25) continue;  // off the fitted head
+    const double dot = px * n[0][p] + py * n[1][p] + pz * n[2][p];
+    angle_sum += std::acos(std::clamp(dot, -1.0, 1.0)) * 180 / kPi;
+    ++covered;
+  }
+  ASSERT_GT(covered, static_cast<int>(plane / 4)) << "the fit covers too little of the crop";
+  std::printf("crop normals against the fit of faces.json's landmarks: %.4f degrees over %d pixels\n",
+              angle_sum / covered, covered);
+  // Measured 0.004 degrees; the nose tip (30) moved by 2 crop pixels gives 1.5.
+  EXPECT_LT(angle_sum / covered, 0.5) << "infer's crop normals are not the fit of its landmarks";
 }
 
 }  // namespace

@@ -143,7 +143,7 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
   std::ostringstream settings_line;
   settings_line << "# facetool prepare-real manifest: generator " << kRealSampleVersion
                 << ", size " << size
-                << (photo.extend_forehead ? ", mask hull+forehead" : ", mask hull");
+                << (photo.extends_forehead() ? ", mask hull+forehead" : ", mask hull");
   if (photo.framing != CropFraming{}) settings_line << ", framing " << framing_text(photo.framing);
   const std::string settings = settings_line.str();
   // A rerun keeps the samples already there only when they were made with these settings.
@@ -201,7 +201,7 @@ int run_prepare_real(CommandContext&, const std::vector<std::string>& args) {
         if (cut > max_cut) {
           reason = "face cut by the photo's edge (" + std::to_string(static_cast<int>(cut * 100)) + "% of its mask outside)";
         } else {
-          write_exr_atomically(path, real_sample_image(crop, p.source, photo.extend_forehead, photo.framing));
+          write_exr_atomically(path, real_sample_image(crop, p.source, photo.extends_forehead(), photo.framing));
           manifest << name << "\t" << clean(p.source) << "\twritten\tscore " << crop.face.score << "\n";
           ++written;
         }

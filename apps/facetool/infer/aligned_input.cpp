@@ -16,7 +16,7 @@ AlignedInput read_aligned_input(const std::string& path, int size, FaceDetector*
     one.max_faces = 1;
     const std::vector<DetectedFace> faces = detector->detect(image, one);
     if (!faces.empty()) {
-      input.crop = crop_face(image, faces[0], size, options.extend_forehead, options.framing);
+      input.crop = crop_face(image, faces[0], size, options.extends_forehead(), options.framing);
       input.by_landmarks = true;
       return input;
     }

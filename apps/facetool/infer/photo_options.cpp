@@ -18,7 +18,7 @@ void add_photo_detection_options(po::options_description& options) {
       ("pad", po::value<double>()->default_value(0.25), "before detection, pad the photo on every side by this fraction of its shorter side, in its mean colour, so faces filling the photo or cut by its edge are found")
       ("landmark-model", po::value<std::string>()->default_value(kDefaultLandmarkModel),
        "dlib 68-point shape predictor (Debian libdlib-data; trained on iBUG 300-W: research use only, no commercial use)")
-      ("forehead", "extend the landmarks' convex hull over the forehead (docs/photos.md)");
+      ("face-region", po::value<std::string>()->default_value("auto"), "the face's region (the mask; where results paste back): hull (the landmarks' convex hull), forehead (the hull over the forehead too), or auto (forehead at any framing but v1's; docs/photos.md)");
 }
 
 void add_photo_infer_options(po::options_description& options) {
@@ -48,7 +48,7 @@ PhotoInferOptions photo_options_from(const po::variables_map& values) {
   o.cnn_model = values["cnn-model"].as<std::string>();
   o.detection.cnn_score_threshold = values["min-cnn-score"].as<double>();
   o.detection.padding = values["pad"].as<double>();
-  o.extend_forehead = values.count("forehead") > 0;
+  o.region = parse_face_region(values["face-region"].as<std::string>(), "--face-region");
   if (values.count("feather")) o.feather = values["feather"].as<double>();
   if (values.count("upsample")) {
     const std::string upsample = values["upsample"].as<std::string>();
