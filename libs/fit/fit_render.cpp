@@ -87,6 +87,7 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
   const size_t plane = static_cast<size_t>(fit.width) * fit.height;
   out.head = g.head;
   out.mask = g.mask;
+  out.reference = g.reference;
   out.normal.assign(3 * plane, 0.0f);
   out.depth.assign(plane, 0.0f);
   for (size_t p = 0; p < plane; ++p) {

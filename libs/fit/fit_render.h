@@ -27,6 +27,9 @@ struct FitRendering {
   std::vector<float> depth;       // distance along -Z from the camera (orthographic: from the
                                   // plane through the model's origin), the fit's units; 0 off the head
   std::vector<float> visibility;  // planar [9]: inside the mask dilated by one pixel, 0 elsewhere
+  // Per pixel, the point of the neutral face the pixel sees (synth's albedo coordinates,
+  // libs/synth/albedo_texture.h); 0 off the head.
+  std::vector<Vec3f> reference;
   FaceMesh mesh;                  // the fitted mesh in the camera frame
   double seconds_geometry = 0, seconds_visibility = 0;  // thread CPU time: mesh + BVH + primary rays; visibility rays
   int64_t rays_cast = 0;

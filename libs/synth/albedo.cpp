@@ -217,6 +217,8 @@ float AlbedoModel::brow_weight(Vec3f p) const {
   return weight;
 }
 
+Vec3f AlbedoModel::evaluate_skin(const AlbedoParams& params, Vec3f p) const { return clamp01(skin(params, p)); }
+
 Vec3f AlbedoModel::evaluate(const AlbedoParams& params, FacePart part, Vec3f p) const {
   switch (part) {
     case FacePart::kSclera: {

@@ -36,6 +36,8 @@ class AlbedoModel {
 
   // The albedo at a reference-face point of the given part.
   Vec3f evaluate(const AlbedoParams& params, FacePart part, Vec3f reference_point) const;
+  // The skin alone there (no lips or brows), clamped to [0, 1].
+  Vec3f evaluate_skin(const AlbedoParams& params, Vec3f reference_point) const;
 
  private:
   Vec3f skin(const AlbedoParams& params, Vec3f p) const;

@@ -63,6 +63,16 @@ std::string describe_generator_settings(const SampleGenerator& generator) {
   // Only when not v1's: older runs' settings text (and fingerprint) is unchanged.
   if (s.camera.framing != CropFraming{}) out << "framing " << framing_text(s.camera.framing) << "\n";
   if (s.photo_edges.fraction > 0) out << "photo edges in " << s.photo_edges.fraction << " of the samples\n";
+  if (s.albedo_textures && !s.albedo_textures->empty()) {
+    Fnv1a hash;
+    for (const AlbedoTexture& t : *s.albedo_textures) {
+      hash.add(t.source.data(), t.source.size());
+      hash.add(t.rgb.data(), t.rgb.size() * sizeof(float));
+      hash.add(t.weight.data(), t.weight.size() * sizeof(float));
+    }
+    out << "albedo textures " << s.albedo_textures->size() << " " << hash.hex() << " in "
+        << s.albedo_texture_fraction << " of the samples\n";
+  }
   out << "light rotate " << s.light.rotate << ", max tilt " << s.light.max_tilt_deg
       << ", colour jitter " << s.light.color_jitter << ", peak " << s.light.min_peak << ".."
       << s.light.max_peak << "\n"

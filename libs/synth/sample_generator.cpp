@@ -31,7 +31,7 @@ class DenormalModeGuard {
 };
 
 // Sub-streams of a sample's seed: changing how one part draws never shifts the others.
-enum Stream : uint64_t { kShape = 1, kAlbedo, kPose, kCamera, kLight, kBackground, kPhotoEdge };
+enum Stream : uint64_t { kShape = 1, kAlbedo, kPose, kCamera, kLight, kBackground, kPhotoEdge, kAlbedoTexture };
 
 const FaceMesh& reference_mesh(const FaceSource& faces) {
   check((faces.model != nullptr) != (faces.mesh != nullptr),
@@ -108,6 +108,8 @@ SampleGenerator::SampleGenerator(FaceSource faces, std::vector<LightSource> ligh
   check(settings_.photo_edges.fraction == 0 || settings_.camera.framing.border == BorderFill::kRingMean,
         "simulated photo edges need a framing with the ring-mean border fill (the fill they ",
         "reproduce); the framing is '", framing_text(settings_.camera.framing), "'");
+  check(!settings_.albedo_textures || settings_.albedo_textures->empty() || faces_.model,
+        "albedo textures need the ICT face model (they live in its neutral face's frame), not a fixed mesh");
   settings_description_ = describe_generator_settings(*this);
   settings_fingerprint_ = facetool::settings_fingerprint(settings_description_);
 }
@@ -136,6 +138,25 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
   }
   Random albedo_random = stream(kAlbedo);
   const AlbedoParams albedo_params = sample_albedo(albedo_random);
+  // A photo texture (drawn from its own stream, so the paper's samples are unchanged without).
+  const AlbedoTexture* texture = nullptr;
+  bool mirror = false;
+  Vec3f gain{1, 1, 1};
+  if (settings_.albedo_textures && !settings_.albedo_textures->empty()) {
+    Random texture_random = stream(kAlbedoTexture);
+    const bool use = texture_random.uniform(0.0, 1.0) < settings_.albedo_texture_fraction;
+    const auto& textures = *settings_.albedo_textures;
+    const size_t pick = std::min(textures.size() - 1, static_cast<size_t>(texture_random.uniform(0.0, 1.0) * textures.size()));
+    mirror = texture_random.uniform(0.0, 1.0) < 0.5;
+    if (use) {
+      texture = &textures[pick];
+      const Vec3f mean = mean_albedo(*texture);
+      for (int c = 0; c < 3; ++c) gain[c] = mean[c] > 1e-4f ? albedo_params.skin[c] / mean[c] : 1.0f;
+      char text[64];
+      std::snprintf(text, sizeof text, " mirror %d gain %.6g %.6g %.6g", mirror ? 1 : 0, gain[0], gain[1], gain[2]);
+      s.albedo_texture = texture->source + text;
+    }
+  }
 
   // Pose and camera.
   Random pose_random = stream(kPose);
@@ -186,7 +207,17 @@ SynthSample SampleGenerator::generate(uint64_t run_seed, int64_t index) const {
       s.mask[p] = 1.0f;
     }
     s.depth[p] = g.depth[p];
-    const Vec3f albedo = albedo_model_.evaluate(albedo_params, g.part[p], g.reference[p]);
+    Vec3f albedo = albedo_model_.evaluate(albedo_params, g.part[p], g.reference[p]);
+    if (texture && (g.part[p] == FacePart::kFace || g.part[p] == FacePart::kHeadNeck)) {
+      Vec3f painted;
+      float weight;
+      sample_albedo_texture(*texture, g.reference[p], mirror, painted, weight);
+      // Under the texture's weight, the procedural skin of the sample's colour (no lips or brows:
+      // the photo has its own).
+      const Vec3f skin = albedo_model_.evaluate_skin(albedo_params, g.reference[p]);
+      for (int c = 0; c < 3; ++c)
+        albedo[c] = std::clamp(weight * painted[c] * gain[c] + (1.0f - weight) * skin[c], 0.0f, 1.0f);
+    }
     for (int c = 0; c < 3; ++c) {
       s.albedo[c * plane + p] = albedo[c];
       s.normal[c * plane + p] = g.normal[p][c];

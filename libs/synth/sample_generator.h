@@ -12,6 +12,7 @@
 #include "libs/synth/light_source.h"
 #include "libs/synth/photo_edge.h"
 #include "libs/synth/pose_camera.h"
+#include "libs/synth/albedo_texture.h"
 #include "libs/synth/synth_sample.h"
 #include "libs/synth/visibility.h"
 
@@ -32,6 +33,15 @@ struct SynthSettings {
   // Simulated photo edges (photo_edge.h): beyond them the image gets camera.framing's border fill
   // and the mask is cut, as alignment does for a real photo; needs the ring-mean border fill.
   PhotoEdgeSampling photo_edges;
+  // Photo-textured albedo (albedo_texture.h; `synth --albedo-textures`): this fraction of the
+  // samples paints one of these textures, drawn at random and mirrored half of the time, on the
+  // face instead of the procedural skin, lips and brows; its colour is scaled channel by channel
+  // to the procedural skin colour the sample drew (the textures' own brightness is not known:
+  // light and albedo from one photo are only defined up to a scale). Where a texture's weight is
+  // below 1 the procedural albedo of that colour shows through; the eyes stay procedural. Empty:
+  // the paper's procedural albedo only.
+  std::shared_ptr<const std::vector<AlbedoTexture>> albedo_textures;
+  double albedo_texture_fraction = 1.0;
 };
 
 // Where faces come from: random ICT Face Model shapes, or one fixed mesh (--mesh).

@@ -124,6 +124,7 @@ LayeredImage synth_sample_to_image(const SynthSample& s) {
   // Only when not v1's framing / when an edge was simulated: v1 samples stay as they were.
   if (!s.framing.empty()) image.set_metadata(key("framing"), s.framing);
   if (s.photo_edges > 0) image.set_metadata(key("photo_edges"), std::to_string(s.photo_edges));
+  if (!s.albedo_texture.empty()) image.set_metadata(key("albedo_texture"), s.albedo_texture);
   if (!s.landmarks.empty()) image.set_metadata(key("landmarks"), format_numbers(s.landmarks.data(), s.landmarks.size()));
   image.set_metadata(key("layout"),
                      "light_sh: 27 SH coefficients, channel-major R0..R8 G0..G8 B0..B8; "

@@ -38,6 +38,8 @@ struct SynthSample {
   std::string settings;           // fingerprint of the generator settings (generator_settings.h)
   std::string framing;            // framing_text of the camera's framing; "" for v1's
   int photo_edges = 0;            // simulated photo edges crossing the crop (0, 1 or 2)
+  // The albedo texture painted on the face: "<source> mirror 0|1 gain R G B"; "" for none.
+  std::string albedo_texture;
   // The face model's 68 landmark vertices projected into the crop: x0 y0 x1 y1 ... in pixels
   // (centres at integers), as prepare-real's facetool:landmarks; empty for a fixed mesh.
   std::vector<double> landmarks;

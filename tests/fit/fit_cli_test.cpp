@@ -21,6 +21,7 @@
 #include "libs/io/exr_io.h"
 #include "libs/io/image_io.h"
 #include "libs/model/safetensors.h"
+#include "libs/synth/albedo_texture.h"
 #include "core/util/math_constants.h"
 
 namespace fs = std::filesystem;
@@ -235,6 +236,45 @@ TEST_F(FitCliTest, SamePersonSharesTheIdentityAcrossPhotos) {
 
 // Mean angle (degrees) between the planar normal maps `a` and `b` ([3][plane]) over the pixels of
 // `mask` where `a` is set; `covered` gets the fraction of the mask where it is.
+// unwrap -> synth --albedo-textures on the example photos: the textures hold the photo where the
+// fit saw it, synth records the one it painted, and the wrong inputs are refused by name.
+TEST_F(FitCliTest, UnwrappedTexturesArePaintedBySynth) {
+  const std::string hdri = std::string(FACETOOL_SHARED_DIR) + "/assets/hdri";
+  if (!fs::exists(hdri)) GTEST_SKIP() << "needs ../shared/assets/hdri; not found at " << hdri;
+  ASSERT_EQ(run("prepare-real " + at("photos") + " -o " + at("real"), at("log")), 0) << read_text(at("log"));  // wall.png: listed, no face
+  ASSERT_EQ(run("pseudo-label --from fit --face-model " + model_ + " --directions 64 " + at("real") + "/sample_0000000[01].exr -o " +
+                at("labelled"), at("log")), 0) << read_text(at("log"));
+  ASSERT_EQ(run("unwrap --face-model " + model_ + " --size 64 " + at("labelled") + "/sample_0000000[01].exr -o " + at("textures"),
+                at("log")), 0) << read_text(at("log"));
+  const AlbedoTexture texture = read_albedo_texture(at("textures/sample_00000000.exr"));
+  EXPECT_EQ(texture.frame.size, 64);
+  int seen = 0;
+  for (size_t t = 0; t < texture.weight.size(); ++t)
+    if (texture.weight[t] > 0.5f) {
+      ++seen;
+      for (int c = 0; c < 3; ++c) ASSERT_TRUE(texture.rgb[c * texture.weight.size() + t] >= 0.0f &&
+                                              texture.rgb[c * texture.weight.size() + t] <= 1.0f);
+    }
+  // The face (brows to chin, most of the cheeks) is a quarter to a half of the frame's square.
+  EXPECT_GT(seen, 64 * 64 / 8);
+  EXPECT_LT(seen, 64 * 64 * 3 / 4);
+  EXPECT_NE(texture.source.find("sample_00000000.exr"), std::string::npos) << texture.source;
+  ASSERT_EQ(run("synth --face-model " + model_ + " --lights " + hdri + " --count 2 --size 32 --directions 16 --threads 1 "
+                "--albedo-textures " + at("textures") + " --out " + at("synth"), at("log")), 0) << read_text(at("log"));
+  const LayeredImage sample = read_exr(at("synth/sample_00000000.exr"), "facetool:");
+  ASSERT_NE(sample.find_metadata("facetool:albedo_texture"), nullptr);
+  EXPECT_NE(sample.find_metadata("facetool:albedo_texture")->find("labelled/sample_0000000"), std::string::npos);
+  // Unlabelled samples, a folder without textures, textures on a fixed mesh: refused, named.
+  EXPECT_NE(run("unwrap --face-model " + model_ + " " + at("real/sample_00000000.exr") + " -o " + at("t2"), at("log")), 0);
+  EXPECT_NE(read_text(at("log")).find("has no normal.X channel"), std::string::npos) << read_text(at("log"));
+  EXPECT_NE(read_text(at("log")).find("pseudo-label --from fit"), std::string::npos) << read_text(at("log"));
+  EXPECT_NE(run("synth --face-model " + model_ + " --lights " + hdri + " --count 1 --size 32 --albedo-textures " +
+                at("photos") + " --out " + at("synth2"), at("log")), 0);
+  EXPECT_NE(read_text(at("log")).find("holds no .exr file"), std::string::npos) << read_text(at("log"));
+  EXPECT_EQ(run("unwrap " + at("labelled/sample_00000000.exr") + " -o " + at("t3"), at("log")), 2);
+  EXPECT_NE(read_text(at("log")).find("give --face-model DIR"), std::string::npos) << read_text(at("log"));
+}
+
 double mean_angle_deg(const LayeredImage& image, const std::string& a, const std::string& b, double* covered) {
   const size_t plane = image.plane_size();
   const float* mask = image.plane(image.find_channel("mask"));

@@ -67,6 +67,11 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
       ("photo-edges", po::value(&settings.photo_edges.fraction)->default_value(0.0),
        "fraction of the samples crossed by a simulated photo edge, filled beyond it as "
        "alignment fills crops beyond a real photo (needs the ring-mean border fill)")
+      ("albedo-textures", po::value<std::string>()->value_name("DIR"),
+       "paint photo albedo textures (`facetool unwrap`'s) on the faces instead of the procedural skin, "
+       "lips and brows, each coloured to the sample's skin tone (docs/synthetic-data.md); needs --face-model")
+      ("albedo-texture-fraction", po::value(&settings.albedo_texture_fraction)->default_value(1.0),
+       "with --albedo-textures: the fraction of the samples painted (the rest procedural)")
       ("directions", po::value(&settings.direction_count)->default_value(872),
        "visibility directions per pixel")
       ("identity-truncation", po::value(&settings.shape.identity_truncation)->default_value(2.5),
@@ -107,7 +112,8 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
                                {"identity-truncation", Random::kMinTruncation, 100},
                                {"max-expressions", 0, 1000},
                                {"contact-sheet-rows", 1, 10000},
-                               {"photo-edges", 0, 1}});
+                               {"photo-edges", 0, 1},
+                               {"albedo-texture-fraction", 0, 1}});
   check_output_option(values, "synth", "an output folder with -o DIR");
   if (face_model.empty() == mesh.empty())
     throw UsageError(face_model.empty()
@@ -151,6 +157,13 @@ int run_synth_command(CommandContext& context, const std::vector<std::string>& a
     lights.push_back(kBlenderStudioLightsDir);
   }
 
+  if (values.count("albedo-textures")) {
+    if (face_model.empty()) throw UsageError("synth: --albedo-textures needs --face-model (textures live on the ICT face)");
+    settings.albedo_textures = std::make_shared<const std::vector<AlbedoTexture>>(
+        read_albedo_textures(values["albedo-textures"].as<std::string>()));
+  } else if (!values["albedo-texture-fraction"].defaulted()) {
+    throw UsageError("synth: --albedo-texture-fraction is for --albedo-textures");
+  }
   FaceSource faces;
   if (!face_model.empty())
     faces.model = std::make_shared<const FaceModel>(FaceModel::load(face_model));
