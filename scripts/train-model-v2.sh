@@ -3,9 +3,12 @@
 #
 #   bash scripts/train-model-v2.sh [STEP...]      # no STEP: all of them, in order
 #
-# Steps: lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 eval.
+# Steps: lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures
+# synth-textured tex-prior-stage1 tex-prior-stage2 eval.
 # The prior-* steps train the same network with the fit's normals as a second input (issue 25
-# item 4; docs/fit.md, "The fit as the network's input") for the same table. Every step is resumable as in
+# item 4; docs/fit.md, "The fit as the network's input") for the same table; the tex-* steps train
+# that network again on synthetic faces painted with albedo textures unwrapped from the training
+# photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"). Every step is resumable as in
 # scripts/train-model.sh (synth and prepare-real keep what they wrote, training resumes its
 # checkpoint, a finished step is skipped: $WORK/done/STEP), so the model trains over several
 # sittings: set SITTING_MINUTES and run the same command in each. Wall times land in
@@ -41,7 +44,9 @@ HELDOUT_LIGHTS="quarry_01_1k.hdr sunrise.exr sunset.exr"  # the same held-out li
 # Synthetic samples' landmarks jittered by this x the inter-ocular distance before the prior's
 # fit: 0.08 makes the prior as wrong as the fit from dlib's landmarks on renders (docs/fit.md).
 LANDMARK_NOISE=${LANDMARK_NOISE:-0.08}
-ALL_STEPS="lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 eval"
+# The fraction of the textured set's faces painted from photos (the rest procedural).
+TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
+ALL_STEPS="lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures synth-textured tex-prior-stage1 tex-prior-stage2 eval"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -136,6 +141,33 @@ step_prior-stage2() {
   train_run "$WORK/prior-stage2.json" "$WORK/prior-stage2" --from "$WORK/prior-stage1/weights.safetensors"
 }
 
+# Albedo textures from the training photos only (never the held-out ones).
+step_textures() {
+  "$FACETOOL" unwrap --face-model "$FACE_MODEL" "$WORK/real-fit-train"/sample_*.exr -o "$WORK/textures"
+}
+
+# The training synthetic set again (same seed: the same faces, poses and lights), a fraction of the
+# faces painted with the textures, and the fit prior added as for the procedural set.
+step_synth-textured() {
+  "$FACETOOL" synth --face-model "$FACE_MODEL" --lights "$WORK/lights/train" --size "$SIZE" \
+    --framing "$FRAMING" --photo-edges "$PHOTO_EDGES" --count "$SYNTH_TRAIN" --seed 1 \
+    --albedo-textures "$WORK/textures" --albedo-texture-fraction "$TEXTURE_FRACTION" \
+    -o "$WORK/synthetic-textured" --contact-sheet "$WORK/synthetic-textured-sheet.png"
+  "$FACETOOL" pseudo-label --from fit --prior-only --landmark-noise "$LANDMARK_NOISE" --face-model "$FACE_MODEL" \
+    "$WORK/synthetic-textured"/sample_*.exr -o "$WORK/synthetic-textured-prior"
+}
+
+step_tex-prior-stage1() {
+  write_config tex-prior-stage1 "$WORK/tex-prior-stage1.json"
+  seed_from_repository tex-prior-stage1
+  train_run "$WORK/tex-prior-stage1.json" "$WORK/tex-prior-stage1"
+}
+
+step_tex-prior-stage2() {
+  write_config tex-prior-stage2 "$WORK/tex-prior-stage2.json"
+  train_run "$WORK/tex-prior-stage2.json" "$WORK/tex-prior-stage2" --from "$WORK/tex-prior-stage1/weights.safetensors"
+}
+
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
 # synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
 # against the fit's labels), a contact sheet of 24 held-out UTKFace photos (every k-th of the
@@ -143,10 +175,10 @@ step_prior-stage2() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout
-    [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
+    [[ $stage == *prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
     eval_stage "$stage" "$synthetic" "$WORK/real-fit-heldout"
     /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
       "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"
