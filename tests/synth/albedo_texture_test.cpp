@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <sstream>
 
 #include "core/util/error.h"
@@ -15,18 +14,12 @@
 #include "libs/synth/random.h"
 #include "libs/synth/sample_generator.h"
 #include "synth_test_support.h"
+#include "tests/support/error_text.h"
 
 namespace facetool {
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::error_text;
 
 TEST(AlbedoTexture, FrameIsTheFaceRegionsBoundingSquareGrownByATenth) {
   FaceMesh mesh;
@@ -116,16 +109,16 @@ TEST(AlbedoTexture, FilesRoundTripAndBadOnesAreNamed) {
   AlbedoTexture other = t;
   other.frame.span = 3.0f;
   write_albedo_texture(dir.file("textures/b.exr"), other);
-  EXPECT_NE(error_of([&] { read_albedo_textures(dir.file("textures")); }).find("b.exr' has another frame"),
+  EXPECT_NE(error_text([&] { read_albedo_textures(dir.file("textures")); }).find("b.exr' has another frame"),
             std::string::npos);
   // A plain EXR: no frame.
   LayeredImage plain(16, 16, {"R", "G", "B", "A"});
   write_exr_atomically(dir.file("plain.exr"), plain);
-  const std::string message = error_of([&] { read_albedo_texture(dir.file("plain.exr")); });
+  const std::string message = error_text([&] { read_albedo_texture(dir.file("plain.exr")); });
   EXPECT_NE(message.find("plain.exr' has no facetool:albedo_texture_frame"), std::string::npos) << message;
   EXPECT_NE(message.find("facetool unwrap"), std::string::npos) << message;
   std::filesystem::create_directories(dir.file("empty"));
-  EXPECT_NE(error_of([&] { read_albedo_textures(dir.file("empty")); }).find("holds no .exr file"), std::string::npos);
+  EXPECT_NE(error_text([&] { read_albedo_textures(dir.file("empty")); }).find("holds no .exr file"), std::string::npos);
 }
 
 TEST(AlbedoTexture, SynthPaintsTheTextureInTheSkinsColourAndLeavesThePapersSamplesAlone) {
