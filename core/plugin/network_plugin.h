@@ -17,12 +17,13 @@ struct NetworkConfig {
   int input_size = 128;  // square input resolution (the paper: 128); must be divisible by 2
   // What the network receives besides the image: "" (the paper: nothing) or "fit_normal" (the
   // normals of the ICT-FaceKit fit to the face's landmarks, 3 more input channels, 0 where the
-  // fitted face does not cover the crop; docs/fit.md "The fit as the network's input").
+  // fitted face does not cover the crop; docs/fit.md "The fit as the network's input"), the fit's
+  // camera at its default field of view, or "fit_normal fov F" at F degrees over the crop.
   std::string input_prior = "";
 };
 
-// Input channels the prior adds (0 for "", 3 for "fit_normal"); throws facetool::Error naming
-// `prior` and the known ones otherwise.
+// Input channels the prior adds (0 for "", 3 for "fit_normal" and "fit_normal fov F"); throws
+// facetool::Error naming `prior` and the known ones otherwise.
 int input_prior_channels(const std::string& prior);
 
 // Per image: albedo [N,3,S,S] in [0,1], unit normal [N,3,S,S], visibility SH [N,9,S,S],

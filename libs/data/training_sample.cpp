@@ -112,6 +112,12 @@ void read_prior(const LayeredImage& image, const std::string& path, const std::s
     check(image.find_channel(name) >= 0, "sample '", path, "' has no ", name, " channel but the network takes ",
           "the fit's normals as input (network.input_prior \"", input_prior, "\"); add them with ",
           "`facetool pseudo-label --from fit` (--prior-only keeps the sample's labels)");
+  // The same fit as the network's (its field of view): another one is another input.
+  const std::string* made = image.find_metadata("facetool:input_prior");
+  if (made)
+    check(*made == input_prior, "sample '", path, "' carries the input prior '", *made,
+          "' but the network takes '", input_prior, "'; make its prior again with `facetool pseudo-label --from fit ",
+          "--prior-only` and the network's field of view (--fov)");
   copy_channels(image, names, path, out);
 }
 

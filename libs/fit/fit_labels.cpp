@@ -64,7 +64,9 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   out.set_metadata("facetool:pseudo_labels", label);
   std::snprintf(buffer, sizeof buffer, "%.4g", fit.rms_px);
   out.set_metadata("facetool:fit_landmark_rms_px", buffer);
-  return with_prior_channels(out, rendering.normal, 0.0);  // the same normals as the input prior
+  // The same normals as the input prior, when the fit's settings make one (input_prior_name).
+  const std::string prior = input_prior_name(options.fit);
+  return prior.empty() ? out : with_prior_channels(out, rendering.normal, 0.0, prior);
 }
 
 }  // namespace facetool

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/plugin/network_plugin.h"
 #include "core/util/error.h"
 #include "libs/fit/fit_render.h"
 #include "libs/synth/random.h"
@@ -47,8 +48,32 @@ Landmarks68 jitter_landmarks(const Landmarks68& landmarks, double fraction, uint
   return add_landmark_noise(landmarks, fraction * std::hypot(a.x - b.x, a.y - b.y), seed);
 }
 
+FitSettings prior_fit_settings(const std::string& input_prior) {
+  check(input_prior_channels(input_prior) == 3, "input prior '", input_prior, "' is not the fit's normals");
+  FitSettings settings;
+  std::istringstream in(input_prior);
+  std::string kind, fov;
+  if (in >> kind >> fov) in >> settings.fov_deg;
+  return settings;
+}
+
+std::string input_prior_name(const FitSettings& s) {
+  const FitSettings d;
+  const bool others_default =
+      s.camera == d.camera && s.jaw == d.jaw && s.jaw_weight == d.jaw_weight && s.contour_rounds == d.contour_rounds &&
+      s.identity_prior == d.identity_prior && s.expression_prior == d.expression_prior &&
+      s.expression_smoothness == d.expression_smoothness && s.fit_expressions == d.fit_expressions &&
+      s.robust_scale == d.robust_scale && s.max_iterations == d.max_iterations &&
+      s.function_tolerance == d.function_tolerance;
+  if (!others_default) return "";
+  if (s.fov_deg == d.fov_deg) return "fit_normal";
+  char name[48];
+  std::snprintf(name, sizeof name, "fit_normal fov %.6g", s.fov_deg);
+  return name;
+}
+
 LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<float>& normals,
-                                 double landmark_noise) {
+                                 double landmark_noise, const std::string& input_prior) {
   const size_t plane = sample.plane_size();
   check(normals.size() == 3 * plane, "prior: expected ", 3 * plane, " normal values, got ", normals.size());
   const char* names[3] = {"prior.X", "prior.Y", "prior.Z"};
@@ -63,7 +88,7 @@ LayeredImage with_prior_channels(const LayeredImage& sample, const std::vector<f
   out.metadata = sample.metadata;
   char noise[40];
   std::snprintf(noise, sizeof noise, "%.4g", landmark_noise);
-  out.set_metadata("facetool:input_prior", "fit_normal");
+  out.set_metadata("facetool:input_prior", input_prior);
   out.set_metadata("facetool:prior_landmark_noise", noise);
   return out;
 }
@@ -76,9 +101,12 @@ std::vector<float> fit_prior_normals(const FitBasis& basis, const LandmarkTarget
 
 LayeredImage fit_prior_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
                               const FitSettings& settings, double landmark_noise, uint64_t seed) {
+  const std::string name = input_prior_name(settings);
+  check(!name.empty(), "the fit's normals as an input prior take the fit's default settings but its field of view "
+        "(--fov); other fit options would not be made again for a photo");
   LandmarkTarget target = read_sample_landmarks(sample, source);
   if (landmark_noise > 0) target.landmarks = jitter_landmarks(target.landmarks, landmark_noise, seed);
-  return with_prior_channels(sample, fit_prior_normals(basis, target, settings), landmark_noise);
+  return with_prior_channels(sample, fit_prior_normals(basis, target, settings), landmark_noise, name);
 }
 
 }  // namespace facetool

@@ -51,6 +51,7 @@ std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const Netw
   const bool prior = !network.input_prior.empty();
   check(!prior || prior_basis != nullptr, "the network takes the input prior '", network.input_prior,
         "' (the fit's normals): give the face model (--face-model DIR)");
+  const FitSettings settings = prior ? prior_fit_settings(network.input_prior) : FitSettings{};
   std::vector<float> inputs;
   for (const FaceCrop& c : crops) {
     inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
@@ -58,7 +59,7 @@ std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const Netw
     LandmarkTarget target;
     target.landmarks = c.alignment.crop_landmarks;
     target.width = target.height = c.alignment.crop_size;
-    const std::vector<float> normals = fit_prior_normals(*prior_basis, target);
+    const std::vector<float> normals = fit_prior_normals(*prior_basis, target, settings);
     inputs.insert(inputs.end(), normals.begin(), normals.end());
   }
   return inputs;

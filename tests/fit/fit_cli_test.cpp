@@ -344,10 +344,13 @@ TEST_F(FitCliTest, APriorNetworkTrainsAndEvaluatesOnSamplesThatCarryIt) {
   if (!fs::exists(hdri)) GTEST_SKIP() << "needs ../shared/assets/hdri; not found at " << hdri;
   ASSERT_EQ(run("synth --face-model " + model_ + " --lights " + hdri + " --count 4 --size 32 --framing v2 --directions 16 "
                 "--threads 1 --out " + at("synth"), at("log")), 0) << read_text(at("log"));
-  ASSERT_EQ(run("pseudo-label --from fit --prior-only --face-model " + model_ + " " + at("synth") + "/sample_0000000*.exr -o " +
+  // The prior at a field of view of 14 degrees over the crop (not the fit's default 22.5): every
+  // step below must carry it (samples, weights, the photo path).
+  ASSERT_EQ(run("pseudo-label --from fit --prior-only --fov 14 --face-model " + model_ + " " + at("synth") + "/sample_0000000*.exr -o " +
                 at("prior"), at("log")), 0) << read_text(at("log"));
+  EXPECT_EQ(*read_exr(at("prior/sample_00000000.exr"), "facetool:").find_metadata("facetool:input_prior"), "fit_normal fov 14");
   std::ofstream(at("prior.json")) << R"({"name": "prior", "network": {"width": 4, "input_size": 32, "framing": "v2",
-    "input_prior": "fit_normal"}, "optimizer": {"learning_rate": 1e-3}, "steps": 2, "checkpoint_every": 2,
+    "input_prior": "fit_normal fov 14"}, "optimizer": {"learning_rate": 1e-3}, "steps": 2, "checkpoint_every": 2,
     "validation": {"holdout_every": 0}, "seed": 1, "sources": [{"name": "synthetic", "directory": ")" + at("prior") +
     R"(", "batch": 2, "terms": {"recon_albedo": 1, "recon_normal": 0.2, "albedo": 1, "normal": 0.2}}]})";
   ASSERT_EQ(run("train --config " + at("prior.json") + " --out " + at("run"), at("log")), 0) << read_text(at("log"));
@@ -364,9 +367,16 @@ TEST_F(FitCliTest, APriorNetworkTrainsAndEvaluatesOnSamplesThatCarryIt) {
   std::ofstream(at("bare.json")) << config;
   EXPECT_NE(run("train --config " + at("bare.json") + " --out " + at("run2"), at("log")), 0);
   EXPECT_NE(read_text(at("log")).find("has no prior.X channel"), std::string::npos) << read_text(at("log"));
+  // A prior made at another field of view is another input: refused, naming both.
+  config = read_text(at("prior.json"));
+  config.replace(config.find("fit_normal fov 14"), 17, "fit_normal");
+  std::ofstream(at("other.json")) << config;
+  EXPECT_NE(run("train --config " + at("other.json") + " --out " + at("run3"), at("log")), 0);
+  EXPECT_NE(read_text(at("log")).find("carries the input prior 'fit_normal fov 14' but the network takes 'fit_normal'"),
+            std::string::npos) << read_text(at("log"));
   // Photos: the fit of each face's landmarks needs the face model.
   EXPECT_EQ(run("infer --model " + weights + " " + at("photos/astronaut.png") + " -o " + at("out"), at("log")), 2);
-  EXPECT_NE(read_text(at("log")).find("take the input prior 'fit_normal'"), std::string::npos) << read_text(at("log"));
+  EXPECT_NE(read_text(at("log")).find("take the input prior 'fit_normal fov 14'"), std::string::npos) << read_text(at("log"));
   EXPECT_NE(read_text(at("log")).find("give --face-model DIR"), std::string::npos) << read_text(at("log"));
   const std::string with_model = " --model " + weights + " --face-model " + model_ + " ";
   EXPECT_EQ(run("infer" + with_model + at("photos/astronaut.png") + " -o " + at("out"), at("log")), 0) << read_text(at("log"));
@@ -416,7 +426,7 @@ TEST_F(FitCliTest, APriorNetworkTrainsAndEvaluatesOnSamplesThatCarryIt) {
     target.landmarks[i] = {m[0][0].get<double>() * x + m[0][1].get<double>() * y + m[0][2].get<double>(),
                            m[1][0].get<double>() * x + m[1][1].get<double>() * y + m[1][2].get<double>()};
   }
-  const std::vector<float> prior = fit_prior_normals(FitBasis::load(model_), target);
+  const std::vector<float> prior = fit_prior_normals(FitBasis::load(model_), target, prior_fit_settings("fit_normal fov 14"));
   const LayeredImage normal = read_exr((dir_ / "zero/grace_hopper_512x512/face_0/normal.exr").string());
   const size_t plane = static_cast<size_t>(target.width) * target.height;
   ASSERT_EQ(static_cast<size_t>(normal.width) * normal.height, plane);
@@ -435,7 +445,8 @@ TEST_F(FitCliTest, APriorNetworkTrainsAndEvaluatesOnSamplesThatCarryIt) {
   ASSERT_GT(covered, static_cast<int>(plane / 4)) << "the fit covers too little of the crop";
   std::printf("crop normals against the fit of faces.json's landmarks: %.4f degrees over %d pixels\n",
               angle_sum / covered, covered);
-  // Measured 0.004 degrees; the nose tip (30) moved by 2 crop pixels gives 1.5.
+  // Measured 0.004 degrees; the nose tip (30) moved by 2 crop pixels gives 1.5, the fit's default
+  // field of view (22.5 degrees instead of the weights' 14) 5.7.
   EXPECT_LT(angle_sum / covered, 0.5) << "infer's crop normals are not the fit of its landmarks";
 }
 

@@ -17,6 +17,7 @@
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 #include "libs/fit/fit_prior.h"
+#include "core/plugin/network_plugin.h"
 #include "libs/fit/fit_render.h"
 #include "libs/fit/albedo_unwrap.h"
 #include "libs/fit/fit_shading.h"
@@ -415,6 +416,24 @@ TEST_F(FitSynthetic, UnwrapRecoversAKnownAlbedoThroughTheFit) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bare.exr' has no facetool:light_sh"), std::string::npos) << e.what();
   }
+}
+
+TEST(FitPrior, NamesTheFitsFieldOfViewAndNothingElse) {
+  FitSettings settings;
+  EXPECT_EQ(input_prior_name(settings), "fit_normal");
+  settings.fov_deg = 14;
+  EXPECT_EQ(input_prior_name(settings), "fit_normal fov 14");
+  EXPECT_EQ(prior_fit_settings("fit_normal fov 14").fov_deg, 14);
+  EXPECT_EQ(prior_fit_settings("fit_normal").fov_deg, FitSettings{}.fov_deg);
+  EXPECT_EQ(input_prior_name(prior_fit_settings("fit_normal fov 9.5")), "fit_normal fov 9.5");
+  settings.jaw_weight = 0.5;  // not recorded in the name, so no prior
+  EXPECT_EQ(input_prior_name(settings), "");
+  for (const char* bad : {"fit_normal fov", "fit_normal fov 0", "fit_normal fov 14 degrees", "fit_normal fov x",
+                          "fit_normals", "fit_normal camera 14"}) {
+    EXPECT_THROW(prior_fit_settings(bad), Error) << bad;
+    EXPECT_THROW(input_prior_channels(bad), Error) << bad;
+  }
+  EXPECT_EQ(input_prior_channels("fit_normal fov 14"), 3);
 }
 
 TEST(FitPrior, LandmarkNoiseHasTheAskedSpread) {
