@@ -121,6 +121,7 @@ step_stage1() {
 
 step_stage2() {
   write_config stage2 "$WORK/stage2.json"
+  seed_from_repository stage2
   train_run "$WORK/stage2.json" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
 }
 
@@ -143,6 +144,7 @@ step_prior-stage1() {
 
 step_prior-stage2() {
   write_config prior-stage2 "$WORK/prior-stage2.json"
+  seed_from_repository prior-stage2
   train_run "$WORK/prior-stage2.json" "$WORK/prior-stage2" --from "$WORK/prior-stage1/weights.safetensors"
 }
 
@@ -182,6 +184,7 @@ step_tex-prior-stage1() {
 
 step_tex-prior-stage2() {
   write_config tex-prior-stage2 "$WORK/tex-prior-stage2.json"
+  seed_from_repository tex-prior-stage2
   train_run "$WORK/tex-prior-stage2.json" "$WORK/tex-prior-stage2" --from "$WORK/tex-prior-stage1/weights.safetensors"
 }
 
