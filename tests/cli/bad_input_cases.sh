@@ -658,6 +658,7 @@ fit/unwrap-no-face-model|--face-model|unwrap {FX}/data/sample_00000000.exr -o {O
 fit/unwrap-not-a-sample|face.png|unwrap --face-model {FX}/folder {FX}/face.png -o {OUT}/tex
 fit/unwrap-sample-missing|does_not_exist.exr|unwrap --face-model {FX}/folder {FX}/does_not_exist.exr -o {OUT}/tex
 fit/unwrap-size-0|--size|unwrap --face-model {FX}/folder --size 0 {FX}/data/sample_00000000.exr -o {OUT}/tex
+fit/unwrap-one-name-two-folders|would both be written|unwrap --face-model {FX}/folder {FX}/data/sample_00000000.exr {FX}/data2/sample_00000000.exr -o {OUT}/tex
 synth/albedo-textures-on-a-mesh|--albedo-textures|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt --albedo-textures {FX}/folder -o {OUT}/synth --size 16
 synth/albedo-texture-fraction-alone|--albedo-texture-fraction|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt --albedo-texture-fraction 0.5 -o {OUT}/synth --size 16
 synth/albedo-texture-fraction-2|--albedo-texture-fraction|synth --mesh {FX}/triangle.obj --lights {FX}/light_sfsnet.txt --albedo-texture-fraction 2 -o {OUT}/synth --size 16

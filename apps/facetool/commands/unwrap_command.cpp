@@ -2,6 +2,7 @@
 // frame, for photo-textured synthetic faces (`synth --albedo-textures`).
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
@@ -56,6 +57,13 @@ int run_unwrap(CommandContext&, const std::vector<std::string>& args) {
     check_regular_input_file(f, kMaxImageFileBytes, "sample");
     check(fs::path(f).extension() == ".exr", "sample '", f, "' is not an EXR: unwrap reads fit-labelled samples ",
           "(`facetool pseudo-label --from fit`) or synthetic ones");
+  }
+  // Textures are named after their samples: two inputs of one name would overwrite each other.
+  std::map<std::string, std::string> owner;
+  for (const std::string& f : files) {
+    const auto [it, fresh] = owner.emplace(fs::path(f).filename().string(), f);
+    check(fresh, "inputs '", it->second, "' and '", f, "' would both be written as '", it->first,
+          "'; unwrap them into separate output folders");
   }
   int shard_index = 0, shard_count = 1;
   parse_shard(shard, shard_index, shard_count);
