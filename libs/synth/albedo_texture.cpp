@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 #include "libs/io/exr_io.h"
 #include "libs/io/layered_image.h"
 
@@ -124,6 +125,10 @@ std::vector<AlbedoTexture> read_albedo_textures(const std::string& folder) {
     if (e.is_regular_file() && e.path().extension() == ".exr") files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   check(!files.empty(), "albedo textures: '", folder, "' holds no .exr file; make them with `facetool unwrap`");
+  // All are held at once: 16 bytes per texel, the first file's size for all.
+  const uint64_t texels = static_cast<uint64_t>(read_exr_header(files.front()).plane_size());
+  check_memory_budget(16 * texels * files.size(), "reading the " + std::to_string(files.size()) +
+                                                      " albedo textures of '" + folder + "' (use fewer)");
   std::vector<AlbedoTexture> textures;
   textures.reserve(files.size());
   for (const std::string& file : files) {

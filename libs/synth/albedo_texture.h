@@ -50,7 +50,8 @@ Vec3f mean_albedo(const AlbedoTexture& texture);
 void write_albedo_texture(const std::string& path, const AlbedoTexture& texture);
 AlbedoTexture read_albedo_texture(const std::string& path);
 // Every .exr of `folder` (sorted by name, not recursive), all in one frame. Throws
-// facetool::Error naming the folder when it holds none, or a file whose frame differs.
+// facetool::Error naming the folder when it holds none, or a file whose frame differs, and
+// OutOfMemory when they would not fit in the memory available.
 std::vector<AlbedoTexture> read_albedo_textures(const std::string& folder);
 
 }  // namespace facetool
