@@ -943,7 +943,7 @@ def main():
                                   "then NAME-aligned and NAME-padded)")
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
                    help="the ICT-FaceKit FaceXModel folder, for a model with the fit prior (default: ../shared's)")
-    p.add_argument("--infer-args", help="more options for every infer run, one string (e.g. '--forehead')")
+    p.add_argument("--infer-args", help="more options for every infer run, one string (e.g. '--face-region hull')")
     p = sub.add_parser("relight", help="relight the frontal photos to the +-25 degree lights; PSNR")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--model", help="trained weights for relight (default: the shipped model)")
