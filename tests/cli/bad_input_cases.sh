@@ -261,6 +261,7 @@ relight|envmap|relight --init random --input-size 32 --width 8 {FX}/face.png --e
 infer|photo|infer --init random --input-size 32 --width 8 {BAD} -o {OUT}/infer
 infer|landmark-model|infer --init random --input-size 32 --width 8 --landmark-model {BAD} {FX}/face.png -o {OUT}/infer
 bench|photo|bench photo --photo {BAD} --repeats 1
+bench|model|bench infer --model {BAD} --photos {FX}/face.png --repeats 1
 EOF
 }
 

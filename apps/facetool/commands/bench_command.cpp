@@ -16,6 +16,8 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "libs/model/default_model.h"
+#include "libs/fit/fit_basis.h"
+#include "libs/synth/face_model.h"
 #include "apps/facetool/infer/network_loading.h"
 #include "core/backend/registry.h"
 #include "core/util/error.h"
@@ -37,6 +39,8 @@ struct BenchSettings {
   std::string photo;
   std::string photos;
   bool save = false;  // bench conv --save
+  std::string model;       // bench infer --model (empty: the shipped model)
+  std::string face_model;  // bench infer --face-model: for a model with the fit prior
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -111,14 +115,24 @@ void bench_conv(CommandContext& context, const BenchSettings& settings) {
   run_conv_benchmarks(backend, options, std::cout);
 }
 
-// Whole photos through infer with the shipped model, outputs written to a temporary folder.
+// Whole photos through infer with --model (default: the shipped model) in its framing, outputs
+// written to a temporary folder.
 void bench_infer(CommandContext& context, const BenchSettings& settings) {
   namespace fs = std::filesystem;
   Backend& backend = get_backend(context.backend);
-  const LoadedNetwork loaded = load_network_weights_file(context, backend, default_model_path());
+  const std::string path = settings.model.empty() ? default_model_path() : settings.model;
+  const LoadedNetwork loaded = load_network_weights_file(context, backend, path);
+  const std::string& prior = loaded.network->config().input_prior;
+  if (!prior.empty() && settings.face_model.empty())
+    throw UsageError("bench infer: weights '" + path + "' take the input prior '" + prior +
+                     "' (the fit of each face's landmarks, docs/fit.md): give --face-model DIR. " + kIctFaceKitHint);
+  const std::shared_ptr<const FitBasis> basis =
+      prior.empty() ? nullptr : std::make_shared<const FitBasis>(FitBasis::load(settings.face_model));
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*loaded.network, *renderer);
   InferBenchOptions options;
+  options.photo.framing = loaded.framing;  // as infer does: crops framed as the model was trained
+  options.photo.prior_basis = basis.get();
   options.photos = expand_photo_inputs({settings.photos});
   check(!options.photos.empty(), "bench infer: no photos in '", settings.photos, "'");
   options.crop_size = loaded.network->config().input_size;
@@ -170,6 +184,10 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "photo: a photo with one face (also timed enlarged to 12 megapixels)")
       ("photos", po::value<std::string>()->default_value("examples/photos")->value_name("PHOTO|DIR"),
        "infer: the photos (a folder: its image files), run --repeats times with every output written")
+      ("model", po::value<std::string>()->value_name("WEIGHTS"),
+       "infer: network weights (default: the shipped model)")
+      ("face-model", po::value<std::string>()->value_name("DIR"),
+       "infer: the ICT-FaceKit FaceXModel folder, for weights that take the fit's normals as input")
       ("save", po::bool_switch(),
        "conv: record the fastest algorithm per layer shape in this machine's cache, which the "
        "fused inference path then uses (FACETOOL_CONV_CACHE names the file)");
@@ -212,6 +230,8 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.photo = values["photo"].as<std::string>();
   settings.photos = values["photos"].as<std::string>();
   settings.save = values["save"].as<bool>();
+  if (values.count("model")) settings.model = values["model"].as<std::string>();
+  if (values.count("face-model")) settings.face_model = values["face-model"].as<std::string>();
   if (values["quick"].as<bool>()) {
     settings.quick = true;
     settings.batches = {1};
