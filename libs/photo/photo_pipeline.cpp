@@ -12,6 +12,7 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/memory_budget.h"
+#include "core/util/stage_timer.h"
 #include "core/util/terminal_text.h"
 
 namespace fs = std::filesystem;
@@ -59,6 +60,7 @@ std::vector<float> network_inputs(const std::vector<FaceCrop>& crops, const Netw
     LandmarkTarget target;
     target.landmarks = c.alignment.crop_landmarks;
     target.width = target.height = c.alignment.crop_size;
+    StageTimer timer("fit prior");  // the landmark fit and its normals rendered at the crop
     const std::vector<float> normals = fit_prior_normals(*prior_basis, target, settings);
     inputs.insert(inputs.end(), normals.begin(), normals.end());
   }

@@ -21,7 +21,7 @@ struct InferBenchOptions {
 
 // Runs infer_photos once over the photos listed `repeats` times, with every output written, and
 // prints photos/s and each stage's ms per photo (load models, decode, detect, landmarks, align,
-// network, render, paste-back, encode, write, fsync) and the part no stage accounts for.
+// fit prior, network, render, paste-back, encode, write, fsync) and the part no stage accounts for.
 void run_infer_benchmarks(Decomposer& decomposer, Backend& backend,
                           const InferBenchOptions& options, std::ostream& out);
 
