@@ -255,6 +255,15 @@ TEST_F(FitSynthetic, LightAndAlbedoFollowFromKnownNormalsAndVisibility) {
   EXPECT_LT(ridged.rms_residual, 0.02 * peak);
 }
 
+// A pose with |yaw| uniform in [low, high] (either side) and pitch and roll within 10 degrees.
+HeadPose random_turned_pose(Random& random, double low, double high) {
+  HeadPose pose;
+  pose.yaw_deg = random.uniform(low, high) * (random.bernoulli(0.5) ? 1 : -1);
+  pose.pitch_deg = random.uniform(-10, 10);
+  pose.roll_deg = random.uniform(-10, 10);
+  return pose;
+}
+
 // The table of docs/fit.md; prints only with FACETOOL_FIT_MEASURE=1 (takes minutes).
 TEST_F(FitSynthetic, Measure) {
   if (!std::getenv("FACETOOL_FIT_MEASURE") || !*std::getenv("FACETOOL_FIT_MEASURE")) GTEST_SKIP() << "set FACETOOL_FIT_MEASURE=1 to measure";
@@ -293,10 +302,7 @@ TEST_F(FitSynthetic, Measure) {
         double normal = 0, pose_error = 0, cover = 0;
         int n = 0;
         for (int k = 0; k < per_bin; ++k) {
-          HeadPose pose;
-          pose.yaw_deg = random.uniform(bins[b], bins[b + 1]) * (random.bernoulli(0.5) ? 1 : -1);
-          pose.pitch_deg = random.uniform(-10, 10);
-          pose.roll_deg = random.uniform(-10, 10);
+          const HeadPose pose = random_turned_pose(random, bins[b], bins[b + 1]);
           const double fov = random.uniform(20, 25);
           const SyntheticFace face = make_synthetic_face(basis_->model(), 2000 + 100 * b + k, pose, 256, fov, true);
           Landmarks68 landmarks = add_landmark_noise(face.landmarks, 1.0, 3000 + 100 * b + k);
@@ -478,10 +484,7 @@ TEST_F(FitSynthetic, DISABLED_MeasureReprojectedLandmarks) {
     double e_dlib = 0, e_fit = 0, e_mean = 0;
     int n = 0;
     for (int k = 0; k < per_bin; ++k) {
-      HeadPose pose;
-      pose.yaw_deg = random.uniform(15 * b, 15 * b + 15) * (random.bernoulli(0.5) ? 1 : -1);
-      pose.pitch_deg = random.uniform(-10, 10);
-      pose.roll_deg = random.uniform(-10, 10);
+      const HeadPose pose = random_turned_pose(random, 15 * b, 15 * b + 15);
       const SyntheticFace face = make_synthetic_face(basis_->model(), 7000 + 100 * b + k, pose, 256, 22.5, true);
       DetectionOptions options;
       options.min_face_size = 60;
