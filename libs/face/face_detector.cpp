@@ -263,10 +263,34 @@ Landmarks68 mean_of(const Landmarks68& a, const Landmarks68& b) {
   return mean;
 }
 
+// The fit on a chip and the fit on its mirror image, averaged, and how far apart they are: the
+// mean distance of the 51 inner points (brows, nose, eyes, mouth) over the inter-ocular distance.
+struct MirroredPair {
+  Landmarks68 mean{};
+  double disagreement = 0;
+};
+
+MirroredPair fit_mirrored_pair(const dlib::shape_predictor& predictor, const Chip& chip) {
+  const Landmarks68 a = fit_on_chip(predictor, chip, false), b = fit_on_chip(predictor, chip, true);
+  const Point2 left_eye = {(a[36].x + a[39].x) / 2, (a[36].y + a[39].y) / 2};
+  const Point2 right_eye = {(a[42].x + a[45].x) / 2, (a[42].y + a[45].y) / 2};
+  const double iod = std::max(std::hypot(left_eye.x - right_eye.x, left_eye.y - right_eye.y), 1e-9);
+  double sum = 0;
+  for (int i = 17; i < kLandmarkCount; ++i) sum += std::hypot(a[i].x - b[i].x, a[i].y - b[i].y);
+  return {mean_of(a, b), sum / (kLandmarkCount - 17) / iod};
+}
+
+// Boxes tried when the mirrored pair disagrees (DetectionOptions::landmark_retry_disagreement):
+// the centre moved by (dx, dy) box sizes, the side scaled by `scale`. Six measured as well as
+// twelve (docs/photos.md, "Landmark agreement").
+constexpr BoxMapping kRetryBoxes[] = {{0, 0, 0.9}, {0, 0, 1.1},  {-0.06, 0, 1},
+                                      {0.06, 0, 1}, {0, -0.06, 1}, {0, 0.06, 1}};
+
 // The landmarks in `box` (HOG convention, work-image pixels): one fit in the box as it is
 // (mirror_landmarks off, landmark_box_pixels 0), or on a chip scaled to landmark_box_pixels,
 // averaged with the fit of the mirrored chip; a face whose eye line is tilted by more than
-// kRefitRollDeg is fitted again on a chip turned upright.
+// kRefitRollDeg is fitted on a chip turned upright. When the fit and the mirrored fit disagree,
+// the pair is fitted again in the boxes of kRetryBoxes and the most self-consistent pair kept.
 Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
                           const dlib::drectangle& box, const DetectionOptions& options) {
   const dlib::rectangle whole(std::lround(box.left()), std::lround(box.top()), std::lround(box.right()) - 1,
@@ -285,12 +309,20 @@ Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::ar
   const Landmarks68 first = fit_on_chip(predictor, upright_chip, false);
   double roll = eye_line_roll(first);
   if (std::abs(roll) < kRefitRollDeg * kPi / 180) roll = 0;
-  if (roll != 0) {
-    const Chip turned = make_chip(grey, whole, roll, scale);
-    const Landmarks68 upright = fit_on_chip(predictor, turned, false);
-    return options.mirror_landmarks ? mean_of(upright, fit_on_chip(predictor, turned, true)) : upright;
+  if (!options.mirror_landmarks)
+    return roll == 0 ? first : fit_on_chip(predictor, make_chip(grey, whole, roll, scale), false);
+  MirroredPair best = roll == 0 ? fit_mirrored_pair(predictor, upright_chip)
+                                : fit_mirrored_pair(predictor, make_chip(grey, whole, roll, scale));
+  if (options.landmark_retry_disagreement < 0 || best.disagreement <= options.landmark_retry_disagreement)
+    return best.mean;
+  for (const BoxMapping& m : kRetryBoxes) {
+    const dlib::drectangle b = mapped_box(whole.left(), whole.top(), whole.right(), whole.bottom(), m);
+    const dlib::rectangle moved(std::lround(b.left()), std::lround(b.top()), std::lround(b.right()),
+                                std::lround(b.bottom()));
+    const MirroredPair pair = fit_mirrored_pair(predictor, make_chip(grey, moved, roll, scale));
+    if (pair.disagreement < best.disagreement) best = pair;
   }
-  return options.mirror_landmarks ? mean_of(first, fit_on_chip(predictor, upright_chip, true)) : first;
+  return best.mean;
 }
 
 // The photo as dlib sees it, padded on every side by `pad` pixels of its mean colour.
