@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <optional>
 
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
@@ -17,12 +16,12 @@ namespace facetool {
 
 namespace OIIO = OIIO_NAMESPACE;
 
-void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
-                               const std::vector<float>& alpha, bool encode_srgb) {
+std::vector<unsigned char> encode_rgba_png(const std::string& path, const RgbImage& rgb,
+                                           const std::vector<float>& alpha, bool encode_srgb) {
   const size_t count = static_cast<size_t>(rgb.width) * rgb.height;
   check(count > 0 && alpha.size() == count, "cannot write '", path,
         "': empty image or alpha of the wrong size");
-  std::optional<StageTimer> timer(std::in_place, "encode");  // 8-bit conversion and compression
+  StageTimer timer("encode");  // 8-bit conversion and compression
   std::vector<uint8_t> bytes(count * 4);
   auto quantise = [](float v) {
     return static_cast<uint8_t>(std::lround((v == v ? std::clamp(v, 0.0f, 1.0f) : 0.0f) * 255.0f));
@@ -36,9 +35,12 @@ void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
   }
   OIIO::ImageSpec spec(rgb.width, rgb.height, 4, OIIO::TypeDesc::UINT8);
   spec.alpha_channel = 3;
-  const std::vector<unsigned char> encoded =
-      encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
-  timer.reset();
+  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,
+                               const std::vector<float>& alpha, bool encode_srgb) {
+  const std::vector<unsigned char> encoded = encode_rgba_png(path, rgb, alpha, encode_srgb);
   write_file_atomically(path, encoded.data(), encoded.size());
 }
 

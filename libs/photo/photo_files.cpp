@@ -2,13 +2,19 @@
 #include "libs/photo/photo_files.h"
 
 #include <atomic>
+#include <exception>
+#include <functional>
+#include <future>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <sstream>
+#include <system_error>
+#include <utility>
 
 #include "libs/face/detection_summary.h"
 #include "libs/face/landmark_drawing.h"
@@ -23,6 +29,7 @@
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 #include "core/util/memory_budget.h"
+#include "core/util/parallel_for.h"
 #include "core/util/progress_bar.h"
 
 namespace fs = std::filesystem;
@@ -30,22 +37,62 @@ namespace fs = std::filesystem;
 namespace facetool {
 namespace {
 
-// One photo-level PNG: the premultiplied layer over the input, or un-premultiplied with alpha.
-void write_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
-                     const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
+// One photo-level PNG's bytes: the premultiplied layer over the input, or un-premultiplied with
+// alpha.
+std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
+                                            const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
   const size_t plane = alpha.size();
   if (transparent) {
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] = alpha[p] > 0 ? layer.pixels[p * 3 + c] / alpha[p] : 0.0f;
-    write_rgba_png_atomically(path, layer, alpha, encode_srgb);
-    return;
+    return encode_rgba_png(path, layer, alpha, encode_srgb);
   }
   for (size_t p = 0; p < plane; ++p)
     for (int c = 0; c < 3; ++c) {
       const float in = encode_srgb ? input.pixels[p * 3 + c] : linear_to_srgb(input.pixels[p * 3 + c]);
       layer.pixels[p * 3 + c] += (1 - alpha[p]) * in;
     }
-  write_png_atomically(path, layer, encode_srgb);
+  return encode_png(path, layer, encode_srgb);
+}
+
+// A file to encode: its path and the function that makes its bytes.
+struct EncodeJob {
+  std::string path;
+  std::function<std::vector<unsigned char>()> encode;
+};
+
+// Encodes the jobs on the calling thread and, when facetool may use more than one thread, one
+// more (the writer runs beside the next photo's detection and network, which leave a core idle
+// part of the time), then writes the files in order on the calling thread, inside its WriteBatch.
+// The first job's failure is rethrown after both threads stop; nothing is written then.
+void encode_and_write(const std::vector<EncodeJob>& jobs) {
+  std::vector<std::vector<unsigned char>> bytes(jobs.size());
+  std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&] {
+    for (size_t i; !failed && (i = next++) < jobs.size();) {
+      try {
+        bytes[i] = jobs[i].encode();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  std::future<void> helper;
+  if (parallel_thread_count() > 1 && jobs.size() > 1) {
+    try {
+      helper = std::async(std::launch::async, work);
+    } catch (const std::system_error&) {  // no thread to be had (a process limit): one is enough
+    }
+  }
+  work();
+  if (helper.valid()) helper.get();
+  if (error) std::rethrow_exception(error);
+  for (size_t i = 0; i < jobs.size(); ++i) write_file_atomically(jobs[i].path, bytes[i].data(), bytes[i].size());
 }
 
 std::string faces_json(const std::string& source, const std::vector<FaceCrop>& crops,
@@ -93,44 +140,64 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
   const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights);
   write_file_atomically(at("faces.json"), json.data(), json.size());
-  write_layer_png(at("albedo.png"), rgb_from_planar(layers.albedo.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
-  write_layer_png(at("shading.png"), rgb_from_planar(layers.shading.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
-  write_layer_png(at("reconstruction.png"), rgb_from_planar(layers.reconstruction.data(), w, h), photo.photo, layers.alpha, options.transparent, true);
-  RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h), visibility_png = normal_png;
-  const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + layers.alpha[p]);  // premultiplied (n + 1) / 2
-      visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    }
-  write_layer_png(at("normal.png"), normal_png, photo.photo, layers.alpha, options.transparent, false);
-  write_layer_png(at("visibility.png"), visibility_png, photo.photo, layers.alpha, options.transparent, false);
+  // The photo-level pictures, each made and encoded by a job (the largest first), then written.
+  const RgbImage& input = photo.photo;
+  const std::vector<float>& alpha = layers.alpha;
+  const bool transparent = options.transparent;
+  std::vector<EncodeJob> jobs;
+  jobs.push_back({at("photo.exr"), [&] {
+    std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
+                                      "normal.X", "normal.Y", "normal.Z"};
+    for (int i = 0; i < 9; ++i) names.push_back("visibility." + std::to_string(i));
+    for (const char* layer : {"shading", "reconstruction"})
+      for (const char* c : {"R", "G", "B"}) names.push_back(std::string(layer) + "." + c);
+    LayeredImage exr(w, h, names);
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c) exr.plane(c)[p] = input.pixels[p * 3 + c];
+    std::copy(alpha.begin(), alpha.end(), exr.plane(3));
+    std::copy(layers.albedo.begin(), layers.albedo.end(), exr.plane(4));
+    std::copy(layers.normal.begin(), layers.normal.end(), exr.plane(7));
+    std::copy(layers.visibility.begin(), layers.visibility.end(), exr.plane(10));
+    std::copy(layers.shading.begin(), layers.shading.end(), exr.plane(19));
+    std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
+    exr.set_metadata("facetool:source", photo.path);
+    exr.set_metadata("facetool:faces", std::to_string(n));
+    return encode_exr(at("photo.exr"), exr);
+  }});
+  const std::pair<const char*, const std::vector<float>*> colour_layers[] = {
+      {"albedo.png", &layers.albedo}, {"shading.png", &layers.shading}, {"reconstruction.png", &layers.reconstruction}};
+  for (const auto& [name, planar] : colour_layers)
+    jobs.push_back({at(name), [&, name = name, planar = planar] {
+      return encode_layer_png(at(name), rgb_from_planar(planar->data(), w, h), input, alpha, transparent, true);
+    }});
+  jobs.push_back({at("normal.png"), [&] {
+    RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h);
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
+        normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
+    return encode_layer_png(at("normal.png"), std::move(normal_png), input, alpha, transparent, false);
+  }});
+  jobs.push_back({at("visibility.png"), [&] {
+    RgbImage visibility_png;
+    visibility_png.width = w;
+    visibility_png.height = h;
+    visibility_png.pixels.resize(plane * 3);
+    const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
+    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, alpha, transparent, false);
+  }});
+  if (options.contact_sheet)
+    jobs.push_back({at("contact_sheet.png"), [&] {
+      const int width = sheet_rows[0].width;
+      std::vector<RgbImage> rows = sheet_rows;
+      RgbImage annotated = resize_to_width(input, width);
+      for (const FaceCrop& c : photo.crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
+      rows.insert(rows.begin(), annotated);
+      return encode_png(at("contact_sheet.png"), stack_rows(rows));
+    }});
+  encode_and_write(jobs);
 
-  std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
-                                    "normal.X", "normal.Y", "normal.Z"};
-  for (int i = 0; i < 9; ++i) names.push_back("visibility." + std::to_string(i));
-  for (const char* layer : {"shading", "reconstruction"})
-    for (const char* c : {"R", "G", "B"}) names.push_back(std::string(layer) + "." + c);
-  LayeredImage exr(w, h, names);
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) exr.plane(c)[p] = photo.photo.pixels[p * 3 + c];
-  std::copy(layers.alpha.begin(), layers.alpha.end(), exr.plane(3));
-  std::copy(layers.albedo.begin(), layers.albedo.end(), exr.plane(4));
-  std::copy(layers.normal.begin(), layers.normal.end(), exr.plane(7));
-  std::copy(layers.visibility.begin(), layers.visibility.end(), exr.plane(10));
-  std::copy(layers.shading.begin(), layers.shading.end(), exr.plane(19));
-  std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
-  exr.set_metadata("facetool:source", photo.path);
-  exr.set_metadata("facetool:faces", std::to_string(n));
-  write_exr_atomically(at("photo.exr"), exr);
-
-  if (options.contact_sheet) {
-    const int width = sheet_rows[0].width;
-    RgbImage annotated = resize_to_width(photo.photo, width);
-    for (const FaceCrop& c : photo.crops) draw_face(annotated, c.face, static_cast<double>(width) / w);
-    sheet_rows.insert(sheet_rows.begin(), annotated);
-    write_png_atomically(at("contact_sheet.png"), stack_rows(sheet_rows));
-  }
   // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
   // replaced by this run's, which has fewer faces (faces.json lists them).
   for (int k = n;; ++k) {

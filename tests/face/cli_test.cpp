@@ -103,6 +103,29 @@ TEST_F(PhotoCliTest, InferFindsOneFacePerExampleAndReportsThePhotoWithout) {
   }
 }
 
+TEST_F(PhotoCliTest, PhotoFilesAreTheSameBytesEncodedOnOneThreadOrTwo) {
+  // The photo-level pictures are encoded on the writer's thread and one more when facetool may
+  // use two threads (FACETOOL_NUM_THREADS=1: the writer's alone); every file must come out the
+  // same, byte for byte, and all of them must be there.
+  const std::string args = "infer " + at("photos/grace_hopper_512x512.jpg") + " --init random --width 8 --input-size 64 -o ";
+  ASSERT_EQ(std::system(("FACETOOL_NUM_THREADS=1 " + std::string(FACETOOL_EXE) + " " + args + at("one") + " 2>" + at("log")).c_str()), 0)
+      << read_text(at("log"));
+  ASSERT_EQ(std::system(("FACETOOL_NUM_THREADS=2 " + std::string(FACETOOL_EXE) + " " + args + at("two") + " 2>" + at("log")).c_str()), 0)
+      << read_text(at("log"));
+  int files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_ / "one")) {
+    if (!entry.is_regular_file()) continue;
+    ++files;
+    const fs::path other = dir_ / "two" / fs::relative(entry.path(), dir_ / "one");
+    ASSERT_TRUE(fs::is_regular_file(other)) << other;
+    EXPECT_EQ(read_text(entry.path()), read_text(other)) << fs::relative(entry.path(), dir_ / "one");
+  }
+  int files_two = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_ / "two")) files_two += entry.is_regular_file();
+  EXPECT_EQ(files, files_two);
+  EXPECT_GE(files, 20);  // 8 photo-level files (faces.json, 5 PNGs, photo.exr, contact sheet), 12 of the face
+}
+
 // Mean |difference| of two planar images over the pixels where `mask` is set.
 double mean_difference_in_mask(const std::vector<float>& a, const std::vector<float>& b, int channels,
                                const std::vector<float>& mask) {
