@@ -1,13 +1,19 @@
 // linear_to_srgb8 (a search over precomputed steps) gives the byte of the direct computation,
 // lround(255 * linear_to_srgb(v)), for every value tried: around each step, at random, and at
-// the special values.
+// the special values; read_rgb_image's table for 8-bit files gives the floats of the per-value
+// decoding of OpenImageIO's floats.
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "libs/io/image_io.h"
 
@@ -46,6 +52,46 @@ TEST(Srgb8, SameByteAsTheDirectComputation) {
   EXPECT_GT(checked, 2000000);
   EXPECT_EQ(linear_to_srgb8(1.0f), 255);
   EXPECT_EQ(linear_to_srgb8(0.5f), 188);  // 255 * (1.055 * 0.5^(1/2.4) - 0.055) = 187.52
+}
+
+TEST(Srgb8, EightBitFilesReadThroughTheTableAsThroughThePowerFunction) {
+  // Every byte value in every channel, in an RGB PNG and a grey + alpha PNG (channel 0 is
+  // replicated): read_rgb_image must give, bit for bit, what OpenImageIO's floats give when each
+  // is decoded by srgb_to_linear (or kept, without decoding).
+  namespace OIIO = OIIO_NAMESPACE;
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("facetool_srgb8_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  for (const int channels : {3, 2}) {
+    const int width = 256, height = 3;
+    std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * channels);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint8_t>((i * 37 + i / 256) % 256);
+    const std::string path = (dir / ("levels" + std::to_string(channels) + ".png")).string();
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+    OIIO::ImageSpec config;  // colours as stored, as read_rgb_image reads them (alpha dropped)
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
+    ASSERT_TRUE(in);
+    std::vector<float> floats(pixels.size());
+    ASSERT_TRUE(in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, floats.data()));
+    in->close();
+    for (const bool decode : {true, false}) {
+      const RgbImage image = read_rgb_image(path, decode);
+      ASSERT_EQ(image.width, width);
+      ASSERT_EQ(image.height, height);
+      for (size_t p = 0; p < static_cast<size_t>(width) * height; ++p)
+        for (int c = 0; c < 3; ++c) {
+          const float f = floats[p * channels + (channels >= 3 ? c : 0)];
+          const float expected = decode ? srgb_to_linear(f) : f;
+          ASSERT_EQ(std::memcmp(&image.pixels[p * 3 + c], &expected, sizeof(float)), 0)
+              << "channels " << channels << ", pixel " << p << ", channel " << c << ": " << image.pixels[p * 3 + c]
+              << " against " << expected;
+        }
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
