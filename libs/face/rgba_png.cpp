@@ -1,7 +1,5 @@
-// RGBA PNG writing: encoded in memory (image_encoding.h), then written atomically.
+// RGBA PNG writing: encoded in memory (png_encoding.h), then written atomically.
 #include "libs/face/rgba_png.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,11 +8,9 @@
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/stage_timer.h"
-#include "libs/io/image_encoding.h"
+#include "libs/io/png_encoding.h"
 
 namespace facetool {
-
-namespace OIIO = OIIO_NAMESPACE;
 
 std::vector<unsigned char> encode_rgba_png(const std::string& path, const RgbImage& rgb,
                                            const std::vector<float>& alpha, bool encode_srgb) {
@@ -33,9 +29,7 @@ std::vector<unsigned char> encode_rgba_png(const std::string& path, const RgbIma
     }
     bytes[p * 4 + 3] = quantise(alpha[p]);
   }
-  OIIO::ImageSpec spec(rgb.width, rgb.height, 4, OIIO::TypeDesc::UINT8);
-  spec.alpha_channel = 3;
-  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  return encode_png8(path, rgb.width, rgb.height, 4, bytes.data());
 }
 
 void write_rgba_png_atomically(const std::string& path, const RgbImage& rgb,

@@ -12,8 +12,8 @@
 #include <new>
 
 #include "core/util/atomic_file.h"
-#include "libs/io/image_encoding.h"
 #include "libs/io/jpeg_check.h"
+#include "libs/io/png_encoding.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
@@ -193,8 +193,7 @@ std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& r
     const float v = std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
     bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
   }
-  const OIIO::ImageSpec spec(rgb.width, rgb.height, 3, OIIO::TypeDesc::UINT8);
-  return encode_image(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  return encode_png8(path, rgb.width, rgb.height, 3, bytes.data());
 }
 
 void write_png_atomically(const std::string& path, const RgbImage& rgb, bool encode_srgb) {
