@@ -55,7 +55,7 @@ void to_grey(const RgbImage& photo, dlib::array2d<unsigned char>& grey) {
     for (int x = 0; x < photo.width; ++x) {
       const float* p = photo.at(x, y);
       const float luma = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
-      grey[y][x] = static_cast<unsigned char>(std::lround(linear_to_srgb(luma) * 255.0f));
+      grey[y][x] = linear_to_srgb8(luma);  // the byte of lround(255 * linear_to_srgb(luma))
     }
 }
 
@@ -352,7 +352,7 @@ void add_colour(WorkImage& work, const RgbImage& photo, long pad) {
   double mean[3] = {0, 0, 0};
   std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
   for (size_t i = 0; i < srgb.size(); ++i) {
-    srgb[i] = static_cast<unsigned char>(std::lround(linear_to_srgb(std::clamp(photo.pixels[i], 0.0f, 1.0f)) * 255.0f));
+    srgb[i] = linear_to_srgb8(photo.pixels[i]);
     mean[i % 3] += srgb[i];
   }
   const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),

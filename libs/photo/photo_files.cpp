@@ -38,7 +38,7 @@ namespace facetool {
 namespace {
 
 // One photo-level PNG's bytes: the premultiplied layer over the input, or un-premultiplied with
-// alpha.
+// alpha. `input` is the photo in linear RGB when the layer is (encode_srgb), else sRGB-encoded.
 std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
                                             const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
   const size_t plane = alpha.size();
@@ -49,8 +49,7 @@ std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage la
   }
   for (size_t p = 0; p < plane; ++p)
     for (int c = 0; c < 3; ++c) {
-      const float in = encode_srgb ? input.pixels[p * 3 + c] : linear_to_srgb(input.pixels[p * 3 + c]);
-      layer.pixels[p * 3 + c] += (1 - alpha[p]) * in;
+      layer.pixels[p * 3 + c] += (1 - alpha[p]) * input.pixels[p * 3 + c];
     }
   return encode_png(path, layer, encode_srgb);
 }
@@ -144,6 +143,12 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   const RgbImage& input = photo.photo;
   const std::vector<float>& alpha = layers.alpha;
   const bool transparent = options.transparent;
+  // The photo sRGB-encoded, under the normal and visibility pictures (made once for both).
+  RgbImage input_srgb;
+  if (!transparent) {
+    input_srgb = input;
+    for (float& v : input_srgb.pixels) v = linear_to_srgb(v);
+  }
   std::vector<EncodeJob> jobs;
   jobs.push_back({at("photo.exr"), [&] {
     std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
@@ -175,7 +180,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
         normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
-    return encode_layer_png(at("normal.png"), std::move(normal_png), input, alpha, transparent, false);
+    return encode_layer_png(at("normal.png"), std::move(normal_png), input_srgb, alpha, transparent, false);
   }});
   jobs.push_back({at("visibility.png"), [&] {
     RgbImage visibility_png;
@@ -185,7 +190,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, alpha, transparent, false);
+    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input_srgb, alpha, transparent, false);
   }});
   if (options.contact_sheet)
     jobs.push_back({at("contact_sheet.png"), [&] {
