@@ -2,11 +2,11 @@
 #include "libs/photo/photo_files.h"
 
 #include <atomic>
+#include <cmath>
 #include <exception>
+#include <filesystem>
 #include <functional>
 #include <future>
-#include <cmath>
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
