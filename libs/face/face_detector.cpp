@@ -291,8 +291,9 @@ constexpr BoxMapping kRetryBoxes[] = {{0, 0, 0.9}, {0, 0, 1.1},  {-0.06, 0, 1},
 // averaged with the fit of the mirrored chip; a face whose eye line is tilted by more than
 // kRefitRollDeg is fitted on a chip turned upright. When the fit and the mirrored fit disagree,
 // the pair is fitted again in the boxes of kRetryBoxes and the most self-consistent pair kept.
+// `face` gets the kept pair's disagreement and whether it was retried.
 Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
-                          const dlib::drectangle& box, const DetectionOptions& options) {
+                          const dlib::drectangle& box, const DetectionOptions& options, DetectedFace& face) {
   const dlib::rectangle whole(std::lround(box.left()), std::lround(box.top()), std::lround(box.right()) - 1,
                               std::lround(box.bottom()) - 1);
   if (!options.mirror_landmarks && options.landmark_box_pixels <= 0) {
@@ -313,8 +314,10 @@ Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::ar
     return roll == 0 ? first : fit_on_chip(predictor, make_chip(grey, whole, roll, scale), false);
   MirroredPair best = roll == 0 ? fit_mirrored_pair(predictor, upright_chip)
                                 : fit_mirrored_pair(predictor, make_chip(grey, whole, roll, scale));
+  face.landmark_disagreement = best.disagreement;
   if (options.landmark_retry_disagreement < 0 || best.disagreement <= options.landmark_retry_disagreement)
     return best.mean;
+  face.landmarks_retried = true;
   for (const BoxMapping& m : kRetryBoxes) {
     const dlib::drectangle b = mapped_box(whole.left(), whole.top(), whole.right(), whole.bottom(), m);
     const dlib::rectangle moved(std::lround(b.left()), std::lround(b.top()), std::lround(b.right()),
@@ -322,6 +325,7 @@ Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::ar
     const MirroredPair pair = fit_mirrored_pair(predictor, make_chip(grey, moved, roll, scale));
     if (pair.disagreement < best.disagreement) best = pair;
   }
+  face.landmark_disagreement = best.disagreement;
   return best.mean;
 }
 
@@ -509,11 +513,11 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
       if (std::any_of(work_boxes.begin(), work_boxes.end(),
                       [&](const ScoredBox& b) { return same_face(b, mapped); }))
         continue;
-      Landmarks68 landmarks = fit_landmarks(impl_->predictor, grey,
-                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes), options);
-      if (options.refit_landmarks)
-        landmarks = fit_landmarks(impl_->predictor, grey, box_from_landmarks(landmarks), options);
       DetectedFace face;
+      Landmarks68 landmarks = fit_landmarks(impl_->predictor, grey,
+                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes), options, face);
+      if (options.refit_landmarks)
+        landmarks = fit_landmarks(impl_->predictor, grey, box_from_landmarks(landmarks), options, face);
       for (int i = 0; i < kLandmarkCount; ++i) {
         const dlib::dpoint q = back(dlib::dpoint(landmarks[i].x, landmarks[i].y));
         face.landmarks[i] = {q.x() - pad, q.y() - pad};

@@ -31,6 +31,11 @@ struct DetectedFace {
   Landmarks68 landmarks{};                           // photo pixels
   double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
   double padding = 0;       // pixels the photo was padded by on every side for the search
+  // How far apart the fit and the mirrored fit of the kept landmarks were (mean distance of the
+  // 51 inner points over the inter-ocular distance; docs/photos.md, "Landmark agreement"); -1
+  // when not measured (mirror_landmarks off). Large values mark doubtful landmarks.
+  double landmark_disagreement = -1;
+  bool landmarks_retried = false;  // fitted again in other boxes because the first pair disagreed
   double size() const { return std::max(right - left, bottom - top); }
   // How it was found, for reports: the detector, "-turned" when found in a turned photo
   // ("hog", "hog-turned", "cnn", "cnn-turned").

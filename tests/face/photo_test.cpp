@@ -175,6 +175,31 @@ TEST_F(PhotoTest, MirroredPhotoGivesTheMirroredLandmarks) {
   }
 }
 
+TEST_F(PhotoTest, LandmarkDisagreementIsReportedAndARetryNeverRaisesIt) {
+  // The example portrait's mirrored fits agree (measured 0.026 of the inter-ocular
+  // distance, under the 0.05 that starts a retry); forcing the retry keeps the pair that agrees
+  // best, never a worse one than the first; without the mirrored fit nothing is measured.
+  const RgbImage photo = read_photo(example("grace_hopper_512x512.jpg"));
+  const std::vector<DetectedFace> plain = detector_->detect(photo);
+  ASSERT_EQ(plain.size(), 1u);
+  std::printf("disagreement %.4f\n", plain[0].landmark_disagreement);
+  EXPECT_GE(plain[0].landmark_disagreement, 0.0);
+  EXPECT_LT(plain[0].landmark_disagreement, 0.05);
+  EXPECT_FALSE(plain[0].landmarks_retried);
+  DetectionOptions always;
+  always.landmark_retry_disagreement = 0;
+  const std::vector<DetectedFace> retried = detector_->detect(photo, always);
+  ASSERT_EQ(retried.size(), 1u);
+  EXPECT_TRUE(retried[0].landmarks_retried);
+  EXPECT_LE(retried[0].landmark_disagreement, plain[0].landmark_disagreement);
+  DetectionOptions one_fit;
+  one_fit.mirror_landmarks = false;
+  const std::vector<DetectedFace> unmeasured = detector_->detect(photo, one_fit);
+  ASSERT_EQ(unmeasured.size(), 1u);
+  EXPECT_EQ(unmeasured[0].landmark_disagreement, -1.0);
+  EXPECT_FALSE(unmeasured[0].landmarks_retried);
+}
+
 TEST_F(PhotoTest, PictureWithoutAFaceGivesNoFace) {
   RgbImage picture;
   picture.width = 300;
