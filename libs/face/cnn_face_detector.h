@@ -19,6 +19,11 @@ struct Srgb8Image {
   std::vector<unsigned char> rgb;  // [height][width][3]
 };
 
+// Who runs the network: facetool's convolutions (the cpu backend's fused path; the default),
+// or dlib's own forward pass, the reference they are tested against (the same boxes; scores
+// within float rounding).
+enum class CnnForward { facetool, dlib };
+
 class CnnFaceDetector {
  public:
   // Reads the model; throws facetool::Error naming the file (missing, not a regular file, or
@@ -34,10 +39,12 @@ class CnnFaceDetector {
   // Faces of `image` whose score exceeds `score_threshold` (0: the model's own threshold), best
   // first, boxes in image pixels.
   std::vector<ScoredBox> detect(const Srgb8Image& image, double score_threshold = 0) const;
+  void set_forward(CnnForward forward) { forward_ = forward; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  CnnForward forward_ = CnnForward::facetool;
 };
 
 }  // namespace facetool
