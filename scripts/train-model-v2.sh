@@ -3,12 +3,15 @@
 #
 #   bash scripts/train-model-v2.sh [STEP...]      # no STEP: all of them, in order
 #
-# Steps: lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures
-# synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2 eval.
+# Steps: lights synth-heldout synth real fit-labels stage1 stage2 prior-data prior-stage1
+# prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2
+# shading-stage2 eval.
 # The prior-* steps train the same network with the fit's normals as a second input (issue 25
 # item 4; docs/fit.md, "The fit as the network's input") for the same table; the tex-* steps train
 # that network again on synthetic faces painted with albedo textures unwrapped from the training
-# photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"). Every step is resumable as in
+# photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
+# tex-prior-stage2 with the real photos' normal label at a tenth of its weight, so that their
+# shading, not the fit, shapes the normals. Every step is resumable as in
 # scripts/train-model.sh (synth and prepare-real keep what they wrote, training resumes its
 # checkpoint, a finished step is skipped: $WORK/done/STEP), so the model trains over several
 # sittings: set SITTING_MINUTES and run the same command in each. Wall times land in
@@ -23,6 +26,10 @@
 #   fit`), light and albedo by least squares from them, instead of stage 1's predictions;
 # - faces cut by the photo's edge kept up to 20 % of their mask (v1: 5 %), as the fill and the
 #   cut mask handle the outside.
+#
+# On a fresh machine the shortest way to the textured prior network's runs is `lights real
+# fit-labels textures synth-textured synth-heldout prior-fov14` and then the run (tex-prior-stage1,
+# or shading-stage2): the procedural set (`synth`, the longest step) is not needed for them.
 #
 # Environment: FACETOOL, SHARED, WORK (default data/train-model-v2), SITTING_MINUTES as in
 # train-model.sh; for a trial run at small scale SYNTH_TRAIN, SYNTH_HELDOUT, UTK_LIMIT (about N
@@ -51,7 +58,7 @@ TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
 # 1.6), where the fit's default 22.5 makes faces too flat (model card: prior error 7.6 against 8.3
 # degrees on held-out synthetic faces, 14.1 against 14.6 on yaleb-dev).
 PRIOR_FOV=14
-ALL_STEPS="lights synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2 eval"
+ALL_STEPS="lights synth-heldout synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 eval"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -59,11 +66,15 @@ check_inputs
 
 step_lights() { split_lights; }
 
-# Synthetic samples at the v2 framing; seed 2 (new identities, held-out lights) is held out.
-step_synth() {
+# The held-out synthetic samples at the v2 framing: seed 2 (new identities), the held-out lights.
+step_synth-heldout() {
   "$FACETOOL" synth --face-model "$FACE_MODEL" --lights "$WORK/lights/heldout" --size "$SIZE" \
     --framing "$FRAMING" --photo-edges "$PHOTO_EDGES" --count "$SYNTH_HELDOUT" --seed 2 \
     -o "$WORK/synthetic-heldout"
+}
+
+# The training synthetic samples: seed 1, the training lights.
+step_synth() {
   "$FACETOOL" synth --face-model "$FACE_MODEL" --lights "$WORK/lights/train" --size "$SIZE" \
     --framing "$FRAMING" --photo-edges "$PHOTO_EDGES" --count "$SYNTH_TRAIN" --seed 1 \
     -o "$WORK/synthetic" --contact-sheet "$WORK/synthetic-sheet.png"
@@ -181,13 +192,31 @@ step_prior-fov14() {
 step_tex-prior-stage1() {
   write_config tex-prior-stage1 "$WORK/tex-prior-stage1.json"
   seed_from_repository tex-prior-stage1
-  train_run "$WORK/tex-prior-stage1.json" "$WORK/tex-prior-stage1" --from "$WORK/prior-stage1/weights.safetensors"
+  train_run "$WORK/tex-prior-stage1.json" "$WORK/tex-prior-stage1" --from "$(prior_stage1_weights)"
+}
+
+# The prior run's stage 1 as it stands: its weights if this work folder finished it, else the
+# checkpoint committed between sittings (step 4,107).
+prior_stage1_weights() {
+  if [ -e "$WORK/prior-stage1/weights.safetensors" ]; then echo "$WORK/prior-stage1/weights.safetensors"
+  else echo checkpoints/facetool-v2/prior-stage1/checkpoint.safetensors; fi
 }
 
 step_tex-prior-stage2() {
   write_config tex-prior-stage2 "$WORK/tex-prior-stage2.json"
   seed_from_repository tex-prior-stage2
   train_run "$WORK/tex-prior-stage2.json" "$WORK/tex-prior-stage2" --from "$WORK/tex-prior-stage1/weights.safetensors"
+}
+
+# From the textured stage 1 where this work folder has it, else from the prior run's stage 1 (the
+# textured set is the synthetic source of both runs, so stage 2 also teaches what tex-prior-stage1
+# would have).
+step_shading-stage2() {
+  write_config shading-stage2 "$WORK/shading-stage2.json"
+  seed_from_repository shading-stage2
+  local from=$WORK/tex-prior-stage1/weights.safetensors
+  [ -e "$from" ] || from=$(prior_stage1_weights)
+  train_run "$WORK/shading-stage2.json" "$WORK/shading-stage2" --from "$from"
 }
 
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
@@ -197,11 +226,11 @@ step_tex-prior-stage2() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
-    [[ $stage == tex-* ]] && synthetic=$WORK/synthetic-heldout-prior14 real=$WORK/real-fit-heldout-prior14
+    [[ $stage == tex-* || $stage == shading-* ]] && synthetic=$WORK/synthetic-heldout-prior14 real=$WORK/real-fit-heldout-prior14
     eval_stage "$stage" "$synthetic" "$real"
     /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
       "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"

@@ -878,6 +878,7 @@ def command_score(args):
     score("constant normal (0,0,1)", lambda s, stem: (constant, np.ones(constant.shape[:2], bool)))
     score("leave-one-out template, landmark-aligned", lambda s, stem: templates[s]["aligned"])
     score("leave-one-out template, as cropped", lambda s, stem: templates[s]["as cropped"])
+    predictors = {}
     for spec in candidates:
         label, _, folder = spec.partition("=")
         if not folder:
@@ -891,6 +892,9 @@ def command_score(args):
                 cache[stem] = load_prediction(folder, stem, refs[s][0].shape[:2])
             return cache[stem]
 
+        predictors[label] = predict
+    fit = predictors.get("fit")
+    for label, predict in predictors.items():
         score(label, predict)
         # The baselines on exactly the pixels this candidate covers.
         score(f"  constant normal, on {label}'s pixels", lambda s, stem, p=predict:
@@ -898,6 +902,19 @@ def command_score(args):
         score(f"  template (aligned), on {label}'s pixels", lambda s, stem, p=predict:
               None if p(s, stem) is None else
               (templates[s]["aligned"][0], templates[s]["aligned"][1] & p(s, stem)[1]))
+        # The landmark fit (the `fit` folder) where both it and this candidate have normals: the
+        # model goal's "0.8 x the fit's error on the same pixels" (docs/model-card-v2.md).
+        if fit is not None and not label.startswith("fit"):
+            def on_both(s, stem, p=predict):
+                got, f = p(s, stem), fit(s, stem)
+                return None if got is None or f is None else (f[0], f[1] & got[1])
+
+            def candidate_on_both(s, stem, p=predict):
+                got, f = p(s, stem), fit(s, stem)
+                return None if got is None or f is None else (got[0], f[1] & got[1])
+
+            score(f"  {label}, where the fit has normals too", candidate_on_both)
+            score(f"  fit, where {label} has normals", on_both)
     lines = [f"{len(photos)} photos ({len(names)} subjects x lights "
              + ", ".join(eval_stem('', a, e).split('_P00')[1] for a, e in EVAL_LIGHTS)
              + f"), scored inside the evaluation mask (the PS reliability mask where the template "
