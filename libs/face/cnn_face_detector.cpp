@@ -117,7 +117,10 @@ struct CnnFaceDetector::Impl {
       ConvEpilogue epilogue;
       epilogue.scale = &stage.scale;
       epilogue.shift = &stage.shift;
-      if (stage.relu) epilogue.activation = ConvEpilogue::Activation::LeakyRelu;  // slope 0
+      if (stage.relu) {  // dlib's ReLU: a leaky ReLU of slope 0
+        epilogue.activation = ConvEpilogue::Activation::LeakyRelu;
+        epilogue.slope = 0.0f;
+      }
       x = ops::conv2d_fused(x, stage.filters, stage.params, epilogue);
     }
     const std::vector<float> scores = x.to_host();
