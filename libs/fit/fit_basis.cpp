@@ -22,17 +22,29 @@ FitBasis FitBasis::load(const std::string& face_model_directory) {
   return FitBasis(std::make_shared<const FaceModel>(FaceModel::load(face_model_directory)));
 }
 
-FitBasis::FitBasis(std::shared_ptr<const FaceModel> model) : model_(std::move(model)) {
-  check(model_ != nullptr, "FitBasis: no face model");
-  check(model_->landmarks().size() == static_cast<size_t>(kLandmarkCount),
+namespace {
+std::array<int32_t, 68> model_landmark_vertices(const FaceModel* model) {
+  check(model != nullptr, "FitBasis: no face model");
+  check(model->landmarks().size() == static_cast<size_t>(kLandmarkCount),
         "face model has no 68 landmark vertices (vertex_indices.json missing?): the fit needs them");
+  std::array<int32_t, 68> vertices{};
+  std::copy(model->landmarks().begin(), model->landmarks().end(), vertices.begin());
+  return vertices;
+}
+}  // namespace
+
+FitBasis::FitBasis(std::shared_ptr<const FaceModel> model)
+    : FitBasis(model, model_landmark_vertices(model.get())) {}
+
+FitBasis::FitBasis(std::shared_ptr<const FaceModel> model, const std::array<int32_t, 68>& landmark_vertices)
+    : model_(std::move(model)), landmark_vertices_(landmark_vertices) {
+  check(model_ != nullptr, "FitBasis: no face model");
   identity_count_ = model_->identity_count();
   expression_count_ = static_cast<int>(model_->expression_names().size());
   const FaceMesh& neutral = model_->neutral();
-  for (int i = 0; i < kLandmarkCount; ++i) {
-    landmark_vertices_[i] = model_->landmarks()[i];
-    check(landmark_vertices_[i] >= 0, "face model: landmark ", i, " is not on a kept vertex");
-  }
+  for (int i = 0; i < kLandmarkCount; ++i)
+    check(landmark_vertices_[i] >= 0 && static_cast<size_t>(landmark_vertices_[i]) < neutral.positions.size(),
+          "face model: landmark ", i, " is not on a kept vertex");
   // Face-region vertices (of kFace triangles) are contour candidates.
   std::vector<uint8_t> is_face(neutral.positions.size(), 0);
   for (size_t t = 0; t < neutral.triangles.size(); ++t)

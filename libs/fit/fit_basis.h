@@ -16,6 +16,9 @@ class FitBasis {
  public:
   // Throws facetool::Error when the model has no 68 landmark vertices.
   explicit FitBasis(std::shared_ptr<const FaceModel> model);
+  // The same with other vertices for the 68 landmarks (kept-vertex indices), e.g. to measure a
+  // correspondence other than the model's vertex_indices.json.
+  FitBasis(std::shared_ptr<const FaceModel> model, const std::array<int32_t, 68>& landmark_vertices);
   // FaceModel::load(directory), then the basis.
   static FitBasis load(const std::string& face_model_directory);
 

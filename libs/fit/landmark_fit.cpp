@@ -339,6 +339,8 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
                                    const FitSettings& settings, bool shared_identity) {
   const double start = thread_cpu_seconds();
   check(!targets.empty(), "fit_landmarks: no faces");
+  check(settings.landmark_weights.empty() || settings.landmark_weights.size() == static_cast<size_t>(kLandmarkCount),
+        "fit_landmarks: landmark_weights has ", settings.landmark_weights.size(), " values; 68 or none");
   const int k = basis.identity_count();
   const int e = settings.fit_expressions ? basis.expression_count() : 0;
   const size_t n = targets.size();
@@ -375,7 +377,8 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
       for (int i = 0; i < kLandmarkCount; ++i) {
         const bool jaw = i < 17;
         const double weight =
-            (jaw && settings.jaw == JawHandling::kDownWeighted ? settings.jaw_weight : 1.0) / s;
+            (jaw && settings.jaw == JawHandling::kDownWeighted ? settings.jaw_weight : 1.0) *
+            (settings.landmark_weights.empty() ? 1.0 : settings.landmark_weights[i]) / s;
         auto* cost = new LandmarkCost(basis.row(fit.vertices[i]), basis.row_stride(), k, e, targets[f].landmarks[i], weight, in);
         std::vector<double*> blocks = {fit.rotation, fit.translation, identity};
         if (e > 0) blocks.push_back(fit.expression.data());

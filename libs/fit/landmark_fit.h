@@ -31,6 +31,8 @@ struct FitSettings {
   JawHandling jaw = JawHandling::kDownWeighted;
   double jaw_weight = 0.25;        // kDownWeighted: weight of the jaw landmarks (others 1)
   int contour_rounds = 3;          // kContour: solves, each after re-choosing the contour vertices
+  // Per-landmark weight factors (68, multiplying the jaw weight above); empty: all 1.
+  std::vector<double> landmark_weights;
   // Landmark residuals are in units of the landmarks' RMS spread about their centroid (S); the
   // priors' weights are relative to them.
   double identity_prior = 2e-3;    // lambda of sum alpha_k^2 (alpha ~ N(0, 1))

@@ -150,6 +150,72 @@ TEST_F(FitSynthetic, OneLandmarkMovedThirtyPixelsBarelyChangesTheNormals) {
   }
 }
 
+// A landmark of weight 0 has no say in the residuals: moving it changes the fit only through the
+// landmarks' spread S, which scales the cost against the priors (measured 0.015 degrees), a small
+// part of what it changes at weight 1 (0.56 degrees: the robust loss's residual pull).
+TEST_F(FitSynthetic, ALandmarkOfWeightZeroIsIgnored) {
+  HeadPose pose;
+  pose.yaw_deg = -8;
+  const SyntheticFace face = make_synthetic_face(basis_->model(), 410, pose);
+  const Landmarks68 clean = add_landmark_noise(face.landmarks, 1.0, 411);
+  Landmarks68 bad = clean;
+  bad[30].x += 12;
+  bad[30].y -= 16;
+  FitSettings ignore_nose;
+  ignore_nose.landmark_weights.assign(kLandmarkCount, 1.0);
+  ignore_nose.landmark_weights[30] = 0;
+  const double ignored = normal_map_difference_deg(fit_and_score(face, clean, ignore_nose).rendering,
+                                                   fit_and_score(face, bad, ignore_nose).rendering);
+  const double counted = normal_map_difference_deg(fit_and_score(face, clean).rendering,
+                                                   fit_and_score(face, bad).rendering);
+  std::printf("nose tip moved 20 px: normals change %.4f deg at weight 0, %.4f deg at weight 1\n", ignored, counted);
+  EXPECT_LT(ignored, 0.1 * counted);
+  EXPECT_GT(counted, 0.1);
+  FitSettings wrong = ignore_nose;
+  wrong.landmark_weights.pop_back();
+  LandmarkTarget target;
+  target.landmarks = clean;
+  target.width = target.height = face.camera.width;
+  EXPECT_THROW(fit_landmarks(*basis_, target, wrong), Error);
+}
+
+// A basis built with other landmark vertices fits points projected from those vertices: here
+// every inner landmark is moved to the vertex nearest a point 8 % of the eye distance lower on the
+// neutral face, and its projections are fitted as well as the model's own (within the pose
+// bound), while the model's vertices read the same points as a face tilted forward.
+TEST_F(FitSynthetic, OtherLandmarkVerticesAreFittedAsGiven) {
+  const FaceMesh& neutral = basis_->model().neutral();
+  std::array<int32_t, 68> moved = basis_->landmark_vertices();
+  const float iod = length(neutral.positions[moved[36]] - neutral.positions[moved[45]]);
+  for (int k = 17; k < kLandmarkCount; ++k) {
+    const Vec3f goal = neutral.positions[moved[k]] - Vec3f{0, 0.08f * iod, 0};
+    float best = 1e30f;
+    for (size_t v = 0; v < basis_->model().neutral().positions.size() && v < 9409; ++v) {
+      const float d = length(neutral.positions[v] - goal);
+      if (d < best) best = d, moved[k] = static_cast<int32_t>(v);
+    }
+  }
+  const FitBasis other(basis_->model_ptr(), moved);
+  EXPECT_EQ(other.landmark_vertices(), moved);
+  HeadPose pose;
+  pose.yaw_deg = 12;
+  pose.pitch_deg = 4;
+  const SyntheticFace face = make_synthetic_face(basis_->model(), 420, pose);
+  LandmarkTarget target;
+  target.width = target.height = face.camera.width;
+  for (int k = 0; k < kLandmarkCount; ++k) {
+    const auto q = face.camera.project(face.mesh.positions[moved[k]]);
+    target.landmarks[k] = {q[0], q[1]};
+  }
+  target.landmarks = add_landmark_noise(target.landmarks, 1.0, 421);
+  const double with_other = rotation_difference_deg(fit_landmarks(other, target, FitSettings{}).pose(), face.pose);
+  const double with_model = rotation_difference_deg(fit_landmarks(*basis_, target, FitSettings{}).pose(), face.pose);
+  std::printf("points of moved vertices: pose error %.2f deg with those vertices, %.2f deg with the model's\n",
+              with_other, with_model);
+  EXPECT_LT(with_other, FIT_POSE_BOUND_DEG);
+  EXPECT_GT(with_model, with_other + 1.0);
+}
+
 TEST_F(FitSynthetic, SamePersonSharesOneIdentity) {
   std::vector<SyntheticFace> faces;
   std::vector<LandmarkTarget> targets;
