@@ -333,12 +333,44 @@ Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::ar
 struct WorkImage {
   dlib::array2d<unsigned char> grey;   // sRGB-encoded luma: HOG and the landmark model
   dlib::array2d<dlib::rgb_pixel> rgb;  // sRGB: the CNN (only when it runs)
+  bool brightened = false;             // both copies' bytes through brightening()
 };
 
-WorkImage padded_work_image(const RgbImage& photo, long pad) {
+// The fraction of the face's box (inside the photo) whose luma is in shadow: below 0.25 in sRGB
+// terms (linear 0.0508).
+double shadow_fraction(const RgbImage& photo, const DetectedFace& face) {
+  const int x0 = std::clamp(static_cast<int>(std::lround(face.left)), 0, photo.width);
+  const int x1 = std::clamp(static_cast<int>(std::lround(face.right)), x0, photo.width);
+  const int y0 = std::clamp(static_cast<int>(std::lround(face.top)), 0, photo.height);
+  const int y1 = std::clamp(static_cast<int>(std::lround(face.bottom)), y0, photo.height);
+  constexpr float kShadow = 0.0508f;  // srgb_to_linear(0.25)
+  int64_t dark = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const float* p = photo.at(x, y);
+      dark += 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] < kShadow;
+    }
+  const int64_t all = static_cast<int64_t>(x1 - x0) * (y1 - y0);
+  return all > 0 ? static_cast<double>(dark) / all : 0.0;
+}
+
+// The brightening of a hard-lit photo's sRGB bytes: v -> 255 (v / 255)^0.5.
+const std::array<unsigned char, 256>& brightening() {
+  static const std::array<unsigned char, 256> table = [] {
+    std::array<unsigned char, 256> t{};
+    for (int v = 0; v < 256; ++v) t[v] = static_cast<unsigned char>(std::lround(255 * std::sqrt(v / 255.0)));
+    return t;
+  }();
+  return table;
+}
+
+WorkImage padded_work_image(const RgbImage& photo, long pad, bool brighten) {
   dlib::array2d<unsigned char> grey;
   to_grey(photo, grey);
+  if (brighten)
+    for (unsigned char& v : grey) v = brightening()[v];
   WorkImage work;
+  work.brightened = brighten;
   const long w = photo.width, h = photo.height;
   const double mean_grey = std::accumulate(grey.begin(), grey.end(), 0.0) / (w * h);
   work.grey.set_size(h + 2 * pad, w + 2 * pad);
@@ -356,7 +388,7 @@ void add_colour(WorkImage& work, const RgbImage& photo, long pad) {
   double mean[3] = {0, 0, 0};
   std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
   for (size_t i = 0; i < srgb.size(); ++i) {
-    srgb[i] = linear_to_srgb8(photo.pixels[i]);
+    srgb[i] = work.brightened ? brightening()[linear_to_srgb8(photo.pixels[i])] : linear_to_srgb8(photo.pixels[i]);
     mean[i % 3] += srgb[i];
   }
   const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),
@@ -481,14 +513,72 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
   check(options.padding >= 0 && options.padding <= 2, "face detection: padding ", options.padding,
         " is outside [0, 2]");
   prepare(options.detector);
+  std::vector<DetectedFace> faces = detect_pass(photo, options, false);
+  const double limit = options.brightened_pass_disagreement;
+  if (limit < 0 || !options.mirror_landmarks) return faces;
+  double detection = detection_seconds_, landmarks = landmark_seconds_;
+  auto add_times = [&] {
+    detection += detection_seconds_;
+    landmarks += landmark_seconds_;
+  };
+  if (faces.empty()) {
+    faces = detect_pass(photo, options, true);
+    add_times();
+    for (DetectedFace& f : faces) f.brightened = true;
+  }
+  auto box = [](const DetectedFace& f) { return ScoredBox{f.left, f.top, f.right, f.bottom, f.score}; };
+  for (DetectedFace& f : faces) {
+    if (f.brightened || f.landmark_disagreement <= limit ||
+        shadow_fraction(photo, f) < options.brightened_pass_min_shadow)
+      continue;
+    // Looked for again in the brightened photo: in a crop around the face (its box grown by half
+    // its size on every side), upright, in the size bands of faces from 0.8 times its size up,
+    // by HOG alone when HOG found it.
+    const double size = f.size(), grow = 0.5 * size;
+    const int x0 = std::clamp(static_cast<int>(std::floor(f.left - grow)), 0, photo.width - 1);
+    const int y0 = std::clamp(static_cast<int>(std::floor(f.top - grow)), 0, photo.height - 1);
+    const int x1 = std::clamp(static_cast<int>(std::ceil(f.right + grow)), x0 + 1, photo.width);
+    const int y1 = std::clamp(static_cast<int>(std::ceil(f.bottom + grow)), y0 + 1, photo.height);
+    RgbImage crop;
+    crop.width = x1 - x0;
+    crop.height = y1 - y0;
+    crop.pixels.resize(static_cast<size_t>(crop.width) * crop.height * 3);
+    for (int y = y0; y < y1; ++y)
+      std::copy(photo.at(x0, y), photo.at(x0, y) + 3 * crop.width, crop.at(0, y - y0));
+    DetectionOptions again = options;
+    again.fallback_rotations_deg.clear();
+    again.min_face_size = 0.8 * size;
+    again.max_faces = 0;
+    if (options.detector == DetectorChoice::automatic && f.detector == "hog") again.detector = DetectorChoice::hog;
+    std::vector<DetectedFace> lifted = detect_pass(crop, again, true, true);
+    add_times();
+    const DetectedFace original = f;
+    for (DetectedFace& g : lifted) {
+      g.left += x0, g.right += x0, g.top += y0, g.bottom += y0;
+      for (Point2& p : g.landmarks) p.x += x0, p.y += y0;
+      g.brightened = true;
+      g.padding = original.padding;  // the photo's search padding, not the crop's
+      if (same_face(box(original), box(g)) && g.landmark_disagreement >= 0 &&
+          g.landmark_disagreement < f.landmark_disagreement)
+        f = g;
+    }
+  }
+  detection_seconds_ = detection;
+  landmark_seconds_ = landmarks;
+  return faces;
+}
+
+std::vector<DetectedFace> FaceDetector::detect_pass(const RgbImage& photo, const DetectionOptions& options,
+                                                    bool brighten, bool near_minimum) {
   const auto whole_start = Clock::now();
   detection_seconds_ = landmark_seconds_ = 0;
   const auto start = Clock::now();
   const double shorter = std::min(photo.width, photo.height);
-  const double default_size = std::max(80.0, shorter / 8.0);
-  const double min_size = options.min_face_size > 0 ? options.min_face_size : default_size;
+  const double automatic_size = std::max(80.0, shorter / 8.0);
+  const double min_size = options.min_face_size > 0 ? options.min_face_size : automatic_size;
+  const double default_size = near_minimum ? min_size : automatic_size;
   const long pad = std::lround(options.padding * shorter);
-  WorkImage work = padded_work_image(photo, pad);
+  WorkImage work = padded_work_image(photo, pad, brighten);
   detection_seconds_ += seconds_since(start);
 
   // Upright first; while no face of the default size is found, the photo turned by each
@@ -553,6 +643,7 @@ std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo,
       if (found_default || !turns) break;
       const auto turn_start = Clock::now();
       WorkImage turned;
+      turned.brightened = work.brightened;
       const double radians = degrees * kPi / 180.0;
       const dlib::point_transform_affine to_turned =
           dlib::rotate_image(work.grey, turned.grey, radians, dlib::interpolate_bilinear());

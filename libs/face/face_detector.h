@@ -30,12 +30,16 @@ struct DetectedFace {
   std::string detector = "hog";                      // which one found it: "hog" or "cnn"
   Landmarks68 landmarks{};                           // photo pixels
   double rotation_deg = 0;  // the photo turn it was found at (fallback_rotations_deg), or 0
-  double padding = 0;       // pixels the photo was padded by on every side for the search
+  double padding = 0;       // pixels the photo was padded by on every side for the search (a face
+                            // found again in a brightened crop keeps its first search's)
   // How far apart the fit and the mirrored fit of the kept landmarks were (mean distance of the
   // 51 inner points over the inter-ocular distance; docs/photos.md, "Landmark agreement"); -1
   // when not measured (mirror_landmarks off). Large values mark doubtful landmarks.
   double landmark_disagreement = -1;
   bool landmarks_retried = false;  // fitted again in other boxes because the first pair disagreed
+  // Found (box and landmarks) in the photo brightened for hard light
+  // (DetectionOptions::brightened_pass_disagreement).
+  bool brightened = false;
   double size() const { return std::max(right - left, bottom - top); }
   // How it was found, for reports: the detector, "-turned" when found in a turned photo
   // ("hog", "hog-turned", "cnn", "cnn-turned").
@@ -70,6 +74,15 @@ struct DetectionOptions {
   // way) and the most self-consistent pair is kept (docs/photos.md, "Landmark agreement"). 0:
   // always; negative: never. 0.05 retries about 1.5 % of the faces of UTKFace photos.
   double landmark_retry_disagreement = 0.05;
+  // A face whose mirrored landmark fits disagree by more than this (after the retry above), and
+  // whose box is partly in shadow (below), is looked for again in the photo brightened (each sRGB byte v as 255 (v / 255)^0.5: the shadows
+  // of a hard-lit face lifted), in a crop around it, and takes that look's box and landmarks
+  // when their mirrored fits agree better; a photo without a face is searched again whole,
+  // brightened (docs/photos.md, "Hard light"). Negative: never; needs mirror_landmarks.
+  double brightened_pass_disagreement = 0.02;
+  // ... and at least this fraction of its box in shadow (sRGB luma below 0.25): brightening
+  // helps only where there are shadows to lift (an evenly lit face keeps its first look).
+  double brightened_pass_min_shadow = 0.2;
   // Fit the landmarks on a chip scaled so that the box is at least this many pixels wide and at
   // most twice this (0: at the photo's scale). dlib gives whole pixels, so small faces gain
   // sub-pixel points; big ones cost less.
@@ -109,6 +122,11 @@ class FaceDetector {
   double last_landmark_seconds() const { return landmark_seconds_; }
 
  private:
+  // One detection over the photo, or over its brightened copy. `near_minimum`: search only the
+  // size bands from the minimum face size up (no smaller default-size bands for the decision
+  // to turn the photo or run the CNN), for a second look at a known face.
+  std::vector<DetectedFace> detect_pass(const RgbImage& photo, const DetectionOptions& options, bool brighten,
+                                        bool near_minimum = false);
   struct Impl;
   std::unique_ptr<Impl> impl_;
   double detection_seconds_ = 0, landmark_seconds_ = 0;

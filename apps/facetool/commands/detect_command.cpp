@@ -34,8 +34,9 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
       ("report", po::value<std::string>(), "write a CSV: per face photo, face, detector, score, "
-       "box, seconds, the 68 landmarks, how far apart the mirrored landmark fits were and whether "
-       "they were retried; per photo without a face its reason");
+       "box, seconds, the 68 landmarks, how far apart the mirrored landmark fits were, whether "
+       "they were retried and whether the face came from the brightened second look; per photo "
+       "without a face its reason");
   add_photo_detection_options(options);
   po::options_description hidden;
   hidden.add_options()("inputs", po::value<std::vector<std::string>>(), "photos and folders");
@@ -63,7 +64,7 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
   csv << std::setprecision(7)
       << "photo,face,detector,score,left,top,right,bottom,turned_deg,detect_s,landmark_s,reason";
   for (int i = 0; i < kLandmarkCount; ++i) csv << ",x" << i << ",y" << i;
-  csv << ",landmark_disagreement,landmarks_retried\n";
+  csv << ",landmark_disagreement,landmarks_retried,brightened\n";
   ProgressBar progress("detect", static_cast<int64_t>(photos.size()), "photos");
   for (const std::string& path : photos) {
     RgbImage image;
@@ -92,7 +93,8 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
           << "," << f.top << "," << f.right << "," << f.bottom << "," << f.rotation_deg << ","
           << seconds[0] << "," << seconds[1] << ",";
       for (const Point2& p : f.landmarks) csv << "," << p.x << "," << p.y;
-      csv << "," << f.landmark_disagreement << "," << (f.landmarks_retried ? 1 : 0) << "\n";
+      csv << "," << f.landmark_disagreement << "," << (f.landmarks_retried ? 1 : 0) << "," << (f.brightened ? 1 : 0)
+          << "\n";
     }
     progress.advance();
   }
