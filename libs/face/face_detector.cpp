@@ -336,13 +336,16 @@ struct WorkImage {
   bool brightened = false;             // both copies' bytes through brightening()
 };
 
-// The fraction of the face's box (inside the photo) whose luma is in shadow: below 0.25 in sRGB
-// terms (linear 0.0508).
+// The fraction of the middle of the face's box (its central 60 % each way, inside the photo:
+// the face, not the hair or background in the box's corners) whose luma is in shadow: below 0.25
+// in sRGB terms (linear 0.0508).
 double shadow_fraction(const RgbImage& photo, const DetectedFace& face) {
-  const int x0 = std::clamp(static_cast<int>(std::lround(face.left)), 0, photo.width);
-  const int x1 = std::clamp(static_cast<int>(std::lround(face.right)), x0, photo.width);
-  const int y0 = std::clamp(static_cast<int>(std::lround(face.top)), 0, photo.height);
-  const int y1 = std::clamp(static_cast<int>(std::lround(face.bottom)), y0, photo.height);
+  const double cx = (face.left + face.right) / 2, cy = (face.top + face.bottom) / 2;
+  const double hw = 0.3 * (face.right - face.left), hh = 0.3 * (face.bottom - face.top);
+  const int x0 = std::clamp(static_cast<int>(std::lround(cx - hw)), 0, photo.width);
+  const int x1 = std::clamp(static_cast<int>(std::lround(cx + hw)), x0, photo.width);
+  const int y0 = std::clamp(static_cast<int>(std::lround(cy - hh)), 0, photo.height);
+  const int y1 = std::clamp(static_cast<int>(std::lround(cy + hh)), y0, photo.height);
   constexpr float kShadow = 0.0508f;  // srgb_to_linear(0.25)
   int64_t dark = 0;
   for (int y = y0; y < y1; ++y)

@@ -80,8 +80,9 @@ struct DetectionOptions {
   // when their mirrored fits agree better; a photo without a face is searched again whole,
   // brightened (docs/photos.md, "Hard light"). Negative: never; needs mirror_landmarks.
   double brightened_pass_disagreement = 0.02;
-  // ... and at least this fraction of its box in shadow (sRGB luma below 0.25): brightening
-  // helps only where there are shadows to lift (an evenly lit face keeps its first look).
+  // ... and at least this fraction of the middle of its box (central 60 % each way) in shadow
+  // (sRGB luma below 0.25): brightening helps only where there are shadows to lift (an evenly
+  // lit face keeps its first look).
   double brightened_pass_min_shadow = 0.2;
   // Fit the landmarks on a chip scaled so that the box is at least this many pixels wide and at
   // most twice this (0: at the photo's scale). dlib gives whole pixels, so small faces gain
