@@ -391,7 +391,8 @@ void add_colour(WorkImage& work, const RgbImage& photo, long pad) {
   double mean[3] = {0, 0, 0};
   std::vector<unsigned char> srgb(static_cast<size_t>(w) * h * 3);
   for (size_t i = 0; i < srgb.size(); ++i) {
-    srgb[i] = work.brightened ? brightening()[linear_to_srgb8(photo.pixels[i])] : linear_to_srgb8(photo.pixels[i]);
+    const unsigned char v = linear_to_srgb8(photo.pixels[i]);
+    srgb[i] = work.brightened ? brightening()[v] : v;
     mean[i % 3] += srgb[i];
   }
   const dlib::rgb_pixel fill(static_cast<unsigned char>(std::lround(mean[0] / (w * h))),

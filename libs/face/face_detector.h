@@ -75,10 +75,11 @@ struct DetectionOptions {
   // always; negative: never. 0.05 retries about 1.5 % of the faces of UTKFace photos.
   double landmark_retry_disagreement = 0.05;
   // A face whose mirrored landmark fits disagree by more than this (after the retry above), and
-  // whose box is partly in shadow (below), is looked for again in the photo brightened (each sRGB byte v as 255 (v / 255)^0.5: the shadows
-  // of a hard-lit face lifted), in a crop around it, and takes that look's box and landmarks
-  // when their mirrored fits agree better; a photo without a face is searched again whole,
-  // brightened (docs/photos.md, "Hard light"). Negative: never; needs mirror_landmarks.
+  // whose box is partly in shadow (below), is looked for again in the photo brightened (each
+  // sRGB byte v as 255 (v / 255)^0.5: the shadows of a hard-lit face lifted), in a crop around
+  // it, and takes that look's box and landmarks when their mirrored fits agree better; a photo
+  // without a face is searched again whole, brightened (docs/photos.md, "Hard light").
+  // Negative: never; needs mirror_landmarks.
   double brightened_pass_disagreement = 0.02;
   // ... and at least this fraction of the middle of its box (central 60 % each way) in shadow
   // (sRGB luma below 0.25): brightening helps only where there are shadows to lift (an evenly
