@@ -62,25 +62,40 @@ double signed_distance_inside(const std::vector<Point2>& polygon, Point2 p) {
   return is_inside ? inside : -outside;
 }
 
-double depth_inside(const std::vector<Point2>& polygon, Point2 p) {
-  if (polygon.size() < 3) return 0;
-  double inside = std::numeric_limits<double>::max();
+ConvexInterior::ConvexInterior(const std::vector<Point2>& polygon) {
+  if (polygon.size() < 3) return;  // no interior: every depth is 0
   for (size_t i = 0; i < polygon.size(); ++i) {
     const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
-    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    const double ex = b.x - a.x, ey = b.y - a.y, len = std::hypot(ex, ey);
     if (len == 0) continue;
-    const double side = cross(a, b, p) / len;
+    lines_.push_back({-ey / len, ex / len, (ey * a.x - ex * a.y) / len});  // cross(a, b, p) / len
+  }
+}
+
+double ConvexInterior::depth(Point2 p) const {
+  if (lines_.empty()) return 0;
+  double inside = std::numeric_limits<double>::max();
+  for (const Line& l : lines_) {
+    const double side = l.nx * p.x + l.ny * p.y + l.c;
     if (side <= 0) return 0;
     inside = std::min(inside, side);
   }
   return inside;
 }
 
+bool ConvexInterior::contains(Point2 p) const {
+  if (lines_.empty()) return false;
+  for (const Line& l : lines_)
+    if (l.nx * p.x + l.ny * p.y + l.c < 0) return false;
+  return true;
+}
+
 std::vector<float> rasterize_mask(const std::vector<Point2>& polygon, int size) {
   std::vector<float> mask(static_cast<size_t>(size) * size, 0.0f);
+  const ConvexInterior interior(polygon);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x)
-      if (signed_distance_inside(polygon, {static_cast<double>(x), static_cast<double>(y)}) >= 0)
+      if (interior.contains({static_cast<double>(x), static_cast<double>(y)}))
         mask[static_cast<size_t>(y) * size + x] = 1.0f;
   return mask;
 }

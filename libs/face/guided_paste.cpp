@@ -35,21 +35,15 @@ FaceGuide face_guide(const RgbImage& photo, const PasteRegion& r) {
   g.width = std::clamp(static_cast<int>(std::ceil(hx)) + 1, g.x0 + 1, w) - g.x0;
   g.height = std::clamp(static_cast<int>(std::ceil(hy)) + 1, g.y0 + 1, h) - g.y0;
   g.photo.resize(static_cast<size_t>(g.width) * g.height);
-  RgbImage grey;  // the luma as an RGB image, for warp_to_crop
-  grey.width = g.width;
-  grey.height = g.height;
-  grey.pixels.resize(g.photo.size() * 3);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const float* p = photo.at(g.x0 + x, g.y0 + y);
-      const float luma = std::clamp(0.2126f * linear_to_srgb(p[0]) + 0.7152f * linear_to_srgb(p[1]) +
-                                        0.0722f * linear_to_srgb(p[2]),
-                                    0.0f, 1.0f);
-      g.photo[static_cast<size_t>(y) * g.width + x] = luma;
-      std::fill_n(grey.at(x, y), 3, luma);
+      g.photo[static_cast<size_t>(y) * g.width + x] =
+          std::clamp(0.2126f * linear_to_srgb(p[0]) + 0.7152f * linear_to_srgb(p[1]) + 0.0722f * linear_to_srgb(p[2]),
+                     0.0f, 1.0f);
     }
-  g.crop = warp_to_crop(grey, r.photo_to_crop.then_after(Similarity2::from(1.0, 0.0, g.x0, g.y0)), r.crop_size);
-  g.crop.resize(static_cast<size_t>(r.crop_size) * r.crop_size);  // the first of three equal planes
+  g.crop = warp_plane_to_crop(g.photo.data(), g.width, g.height,
+                              r.photo_to_crop.then_after(Similarity2::from(1.0, 0.0, g.x0, g.y0)), r.crop_size);
   return g;
 }
 

@@ -7,16 +7,14 @@
 #include <vector>
 
 #include "core/sh/clamped_cosine.h"
-#include "core/sh/envmap_projection.h"
 #include "core/sh/sh_basis.h"
-#include "core/sh/sh_eval.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 
 namespace facetool::light {
 namespace {
 
-constexpr int kSubsamples = 3;  // per axis, on the sphere's pixels (smooth outline)
+constexpr int kSubsamples = 3;  // per axis, on the sphere's outline pixels (smooth outline)
 const std::array<float, 3> kBackground = {0.02f, 0.02f, 0.02f};
 const std::array<float, 3> kHatch = {0.15f, 0.4f, 1.0f};
 constexpr float kGuide = 0.3f;
@@ -32,15 +30,24 @@ struct Panel {
   std::vector<double> coverage;
 };
 
-// shading(n) = 1/pi * sum_i A_l L_i Y_i(n) per channel: the renderer's unoccluded shading.
-Rgb sphere_shading(const sh::RgbLight& light, const sh::Vec3& n) {
+// shading(n) = 1/pi * sum_i A_l L_i Y_i(n) per channel: the renderer's unoccluded shading. The
+// factors A_l L_i / pi are computed once per light; a pixel then costs the 9 basis values.
+using ShadingFactors = std::array<std::array<double, sh::kCoeffCount>, 3>;
+
+ShadingFactors shading_factors(const sh::RgbLight& light) {
+  ShadingFactors k{};
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < sh::kCoeffCount; ++i)
+      k[c][i] = sh::cosine_band_factor(sh::sh_band(i)) * light[c * sh::kCoeffCount + i] / kPi;
+  return k;
+}
+
+Rgb sphere_shading(const ShadingFactors& k, const sh::Vec3& n) {
   double y[sh::kCoeffCount];
   sh::sh_basis(n[0], n[1], n[2], y);
   Rgb out{};
   for (int c = 0; c < 3; ++c)
-    for (int i = 0; i < sh::kCoeffCount; ++i)
-      out[c] += sh::cosine_band_factor(sh::sh_band(i)) * light[c * sh::kCoeffCount + i] * y[i];
-  for (double& v : out) v /= kPi;
+    for (int i = 0; i < sh::kCoeffCount; ++i) out[c] += k[c][i] * y[i];
   return out;
 }
 
@@ -53,24 +60,30 @@ Panel render_sphere(const sh::RgbLight& light, int size) {
   panel.coverage.assign(count, 0.0);
   const double radius = 0.5 * size * 0.94;  // a small margin around the sphere
   const double centre = 0.5 * size;
+  const ShadingFactors k = shading_factors(light);
   for (int row = 0; row < size; ++row)
     for (int col = 0; col < size; ++col) {
       const size_t p = static_cast<size_t>(row) * size + col;
       Rgb sum{};
       int hits = 0;
-      for (int sy = 0; sy < kSubsamples; ++sy)
-        for (int sx = 0; sx < kSubsamples; ++sx) {
-          const double x = (col + (sx + 0.5) / kSubsamples - centre) / radius;
-          const double y = -(row + (sy + 0.5) / kSubsamples - centre) / radius;  // rows go down
+      // A pixel wholly inside the sphere is shaded once, at its centre (the shading varies too
+      // little across one pixel to show); a pixel on the outline is subsampled for its coverage.
+      const double far_x = std::max(std::abs(col - centre), std::abs(col + 1 - centre));
+      const double far_y = std::max(std::abs(row - centre), std::abs(row + 1 - centre));
+      const int n = far_x * far_x + far_y * far_y < radius * radius ? 1 : kSubsamples;
+      for (int sy = 0; sy < n; ++sy)
+        for (int sx = 0; sx < n; ++sx) {
+          const double x = (col + (sx + 0.5) / n - centre) / radius;
+          const double y = -(row + (sy + 0.5) / n - centre) / radius;  // rows go down
           const double r2 = x * x + y * y;
           if (r2 > 1.0) continue;
-          const Rgb s = sphere_shading(light, {x, y, std::sqrt(1.0 - r2)});
+          const Rgb s = sphere_shading(k, {x, y, std::sqrt(1.0 - r2)});
           for (int c = 0; c < 3; ++c) sum[c] += s[c];
           ++hits;
         }
       if (hits == 0) continue;
       panel.inside[p] = 1;
-      panel.coverage[p] = static_cast<double>(hits) / (kSubsamples * kSubsamples);
+      panel.coverage[p] = static_cast<double>(hits) / (n * n);
       for (int c = 0; c < 3; ++c) panel.values[p][c] = sum[c] / hits;
       panel.negative[p] = *std::min_element(panel.values[p].begin(), panel.values[p].end()) < 0;
     }
@@ -81,17 +94,30 @@ Panel render_panorama(const sh::RgbLight& light, int height) {
   const int width = 2 * height;
   Panel panel{width, height, {}, {}, {}, {}};
   const size_t count = static_cast<size_t>(width) * height;
-  panel.values.resize(count);
+  panel.values.assign(count, Rgb{});
   panel.negative.assign(count, 0);
   panel.inside.assign(count, 1);
   panel.coverage.assign(count, 1.0);
-  for (int row = 0; row < height; ++row)
+  // sh::equirect_direction's mapping, its sines and cosines once per row and per column.
+  std::vector<double> sin_phi(width), cos_phi(width);
+  for (int col = 0; col < width; ++col) {
+    const double phi = 2.0 * kPi * ((col + 0.5) / width - 0.5);
+    sin_phi[col] = std::sin(phi);
+    cos_phi[col] = std::cos(phi);
+  }
+  for (int row = 0; row < height; ++row) {
+    const double theta = kPi * ((row + 0.5) / height);
+    const double sin_theta = std::sin(theta), cos_theta = std::cos(theta);
     for (int col = 0; col < width; ++col) {
       const size_t p = static_cast<size_t>(row) * width + col;
-      const sh::Vec3 d = sh::equirect_direction((col + 0.5) / width, (row + 0.5) / height);
-      panel.values[p] = sh::light_eval(light, d);
+      const sh::Vec3 d{sin_theta * sin_phi[col], cos_theta, -sin_theta * cos_phi[col]};
+      double y[sh::kCoeffCount];
+      sh::sh_basis(d[0], d[1], d[2], y);  // once for the three channels
+      for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < sh::kCoeffCount; ++i) panel.values[p][c] += light[c * sh::kCoeffCount + i] * y[i];
       panel.negative[p] = *std::min_element(panel.values[p].begin(), panel.values[p].end()) < 0;
     }
+  }
   return panel;
 }
 

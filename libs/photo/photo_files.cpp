@@ -1,6 +1,7 @@
 // The files of `facetool infer` on photos: per face, per photo, and the loop over photos.
 #include "libs/photo/photo_files.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -169,7 +170,12 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
     exr.set_metadata("facetool:source", photo.path);
     exr.set_metadata("facetool:faces", std::to_string(n));
-    return encode_exr(at("photo.exr"), exr);
+    // The photo and its alpha as 32-bit floats (the input kept exactly); the layers the network
+    // made as 16-bit halves (docs/photos.md: half the file, and faster to write).
+    ExrStorage storage;
+    storage.half.assign(names.size(), true);
+    std::fill_n(storage.half.begin(), 4, false);
+    return encode_exr(at("photo.exr"), exr, storage);
   }});
   const std::pair<const char*, const std::vector<float>*> colour_layers[] = {
       {"albedo.png", &layers.albedo}, {"shading.png", &layers.shading}, {"reconstruction.png", &layers.reconstruction}};

@@ -12,7 +12,8 @@ namespace facetool {
 // faces.json (boxes, scores, landmarks, transforms, lights in the photo's frame), albedo,
 // shading, reconstruction, normal and visibility PNGs at the photo's resolution (over the
 // photo, or transparent outside the faces with options.transparent), photo.exr (every channel,
-// alpha = face coverage) and, with options.contact_sheet, contact_sheet.png.
+// alpha = face coverage; the photo and alpha 32-bit, the network's layers 16-bit half floats)
+// and, with options.contact_sheet, contact_sheet.png.
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options);
 
 

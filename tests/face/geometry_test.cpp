@@ -1,7 +1,9 @@
-// Photo-pipeline geometry against closed forms: similarity fit, mask distance, template table,
-// align-then-paste-back identity, and normals and light carried back from rotated photos.
+// Photo-pipeline geometry against closed forms and plain definitions: similarity fit, mask
+// distance, template table, align-then-paste-back identity, contact-sheet resizing, and normals
+// and light carried back from rotated photos.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -10,6 +12,7 @@
 #include "libs/face/face_mask.h"
 #include "libs/face/face_template.h"
 #include "libs/face/frame_rotation.h"
+#include "libs/face/landmark_drawing.h"
 #include "libs/face/paste_back.h"
 #include "libs/face/photo_reader.h"
 #include "libs/synth/landmark_projection.h"
@@ -64,6 +67,69 @@ TEST(FaceMask, SignedDistanceToASquare) {
   double area = 0;
   for (float v : raster) area += v;
   EXPECT_EQ(area, 121);  // pixel centres 0..10 in both directions
+}
+
+TEST(FaceMask, ConvexInteriorAgreesWithTheSignedDistance) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> spread(0.0, 30.0);
+  Landmarks68 points;
+  for (Point2& p : points) p = {100 + spread(rng), 100 + 1.3 * spread(rng)};
+  const std::vector<Point2> hull = face_mask_polygon(points, true);
+  const ConvexInterior interior(hull);
+  std::uniform_real_distribution<double> anywhere(-20.0, 220.0);
+  int inside = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Point2 p{anywhere(rng), anywhere(rng)};
+    const double reference = std::max(0.0, signed_distance_inside(hull, p));
+    EXPECT_NEAR(interior.depth(p), reference, 1e-9) << p.x << ", " << p.y;
+    EXPECT_EQ(interior.contains(p), signed_distance_inside(hull, p) >= 0) << p.x << ", " << p.y;
+    inside += reference > 0;
+  }
+  EXPECT_GT(inside, 500);  // both sides of the boundary were tried
+  EXPECT_LT(inside, 4500);
+  EXPECT_EQ(ConvexInterior({{0, 0}, {1, 1}}).depth({0.5, 0.5}), 0.0);  // no interior
+  EXPECT_FALSE(ConvexInterior({{0, 0}, {1, 1}}).contains({0.5, 0.5}));
+}
+
+// resize_to_width's plain definition: each output pixel the mean of n x n bilinear samples.
+RgbImage resize_by_samples(const RgbImage& image, int width) {
+  const double scale = static_cast<double>(width) / image.width;
+  RgbImage out;
+  out.width = width;
+  out.height = std::max(1, static_cast<int>(std::lround(image.height * scale)));
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height * 3);
+  const int n = std::clamp(static_cast<int>(std::ceil(1.0 / scale)), 1, 16);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      double sum[3] = {0, 0, 0};
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          float s[3];
+          sample_rgb_bilinear(image, (x - 0.5 + (i + 0.5) / n) / scale, (y - 0.5 + (j + 0.5) / n) / scale, s);
+          for (int c = 0; c < 3; ++c) sum[c] += s[c];
+        }
+      for (int c = 0; c < 3; ++c) out.at(x, y)[c] = static_cast<float>(sum[c] / (n * n));
+    }
+  return out;
+}
+
+TEST(ContactSheet, ResizeToWidthIsTheMeanOfBilinearSamples) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  RgbImage image;
+  image.width = 61;
+  image.height = 47;
+  image.pixels.resize(static_cast<size_t>(image.width) * image.height * 3);
+  for (float& v : image.pixels) v = value(rng);
+  for (int width : {1, 7, 13, 30, 61, 64, 65, 200}) {
+    const RgbImage fast = resize_to_width(image, width), plain = resize_by_samples(image, width);
+    ASSERT_EQ(fast.width, plain.width);
+    ASSERT_EQ(fast.height, plain.height);
+    double worst = 0;
+    for (size_t k = 0; k < fast.pixels.size(); ++k)
+      worst = std::max(worst, static_cast<double>(std::abs(fast.pixels[k] - plain.pixels[k])));
+    EXPECT_LT(worst, 1e-5) << "width " << width;
+  }
 }
 
 TEST(FaceMask, ForeheadExtensionOnlyAddsAboveTheBrows) {

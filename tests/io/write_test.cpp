@@ -1,10 +1,14 @@
-// Atomic writes: nothing under a final name changes unless every file was written completely.
+// Atomic writes: nothing under a final name changes unless every file was written completely;
+// the encoded PNG and EXR bytes read back (EXR channels stored as half within half precision).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -144,6 +148,32 @@ TEST_F(AtomicWrite, EncodedPngAndExrReadBack) {
   EXPECT_EQ(exr.pixels, layered.pixels);
   ASSERT_EQ(exr.metadata.size(), 1u);
   EXPECT_EQ(exr.metadata[0].second, "a test");
+}
+
+TEST_F(AtomicWrite, ExrHalfChannelsReadBackWithinHalfPrecisionAndFloatChannelsExactly) {
+  LayeredImage image(37, 23, {"layer.0", "layer.1", "layer.2", "layer.3", "layer.4"});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-10.0f, 10.0f);
+  for (float& v : image.pixels) v = value(rng) * (rng() % 4 == 0 ? 1e-3f : 1.0f);
+  std::fill_n(image.plane(4), 40, 0.0f);  // runs of zeros, as outside the faces
+  ExrStorage storage;
+  storage.half = {false, true, false, true, true};
+  const std::vector<unsigned char> mixed = encode_exr(file("mixed.exr"), image, storage);
+  const std::vector<unsigned char> full = encode_exr(file("full.exr"), image);
+  EXPECT_LT(mixed.size(), full.size());
+  write_file_atomically(file("mixed.exr"), mixed.data(), mixed.size());
+  const LayeredImage back = read_exr(file("mixed.exr"));
+  ASSERT_EQ(back.channel_names, image.channel_names);
+  for (int c = 0; c < 5; ++c)
+    for (size_t p = 0; p < image.plane_size(); ++p) {
+      const float v = image.plane(c)[p], r = back.plane(c)[p];
+      if (storage.half[c])  // 10 mantissa bits, rounded: 2^-11 relative (normal halves here)
+        EXPECT_NEAR(r, v, std::abs(v) * 0x1p-11f + 1e-7f) << c << " " << p;
+      else
+        EXPECT_EQ(r, v) << c << " " << p;
+    }
+  storage.half = {true, true};  // two flags for five channels
+  EXPECT_THROW(encode_exr(file("bad.exr"), image, storage), Error);
 }
 
 TEST_F(AtomicWrite, LightJsonKeysAreInChannelOrder) {
