@@ -23,9 +23,13 @@ void CpuBackend::linear(const Tensor& x, const Tensor& w, const Tensor* bias, co
   const float* pw = ptr(w);
   const float* pb = bias ? ptr(*bias) : nullptr;
   float* py = ptr(y);
+  // One product per sample: a GEMM library may sum a lone row (a matrix-vector product) in
+  // another order than rows of a larger batch, and a sample's output must not depend on the
+  // batch it came in (a photo gives the same bytes alone or among others, sharded or not).
+  // The weights are small next to the batch's activations, so this costs little.
   parallel_for(batch, row_grain(batch), [&](int64_t begin, int64_t end) {
-    sgemm(false, true, end - begin, out, in, 1.0f, px + begin * in, in, pw, in, 0.0f,
-          py + begin * out, out);
+    for (int64_t i = begin; i < end; ++i)
+      sgemm(false, true, 1, out, in, 1.0f, px + i * in, in, pw, in, 0.0f, py + i * out, out);
     if (pb)
       for (int64_t i = begin; i < end; ++i)
         for (int64_t o = 0; o < out; ++o) py[i * out + o] += pb[o];

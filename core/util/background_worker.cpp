@@ -1,48 +1,53 @@
-// BackgroundWorker: a worker thread, a one-job hand-over slot and the job's exception.
+// BackgroundWorker: a worker thread, a queue of weighted jobs and the first unreported failure.
 #include "core/util/background_worker.h"
-
-#include <utility>
 
 namespace facetool {
 
-BackgroundWorker::BackgroundWorker() : thread_([this] { run(); }) {}
+BackgroundWorker::BackgroundWorker(double capacity) : capacity_(capacity), thread_([this] { run(); }) {}
 
 BackgroundWorker::~BackgroundWorker() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return !busy_; });
+    changed_.wait(lock, [this] { return jobs_.empty(); });
     stopping_ = true;
   }
   changed_.notify_all();
   thread_.join();
 }
 
-void BackgroundWorker::wait_idle_and_rethrow(std::unique_lock<std::mutex>& lock) {
-  changed_.wait(lock, [this] { return !busy_; });
+void BackgroundWorker::rethrow_failure() {
   if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
 }
 
-void BackgroundWorker::submit(std::function<void()> job) {
+void BackgroundWorker::submit(std::function<void()> job, double weight) {
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    wait_idle_and_rethrow(lock);
-    job_ = std::move(job);
-    busy_ = true;
+    // Wait for room (an empty worker always has room), or for a failure to report.
+    changed_.wait(lock, [&] { return failure_ || jobs_.empty() || weight_in_worker_ + weight <= capacity_; });
+    rethrow_failure();
+    jobs_.emplace_back(std::move(job), weight);
+    weight_in_worker_ += weight;
   }
   changed_.notify_all();
 }
 
 void BackgroundWorker::finish() {
   std::unique_lock<std::mutex> lock(mutex_);
-  wait_idle_and_rethrow(lock);
+  changed_.wait(lock, [this] { return jobs_.empty(); });
+  rethrow_failure();
+}
+
+bool BackgroundWorker::idle() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return jobs_.empty();
 }
 
 void BackgroundWorker::run() {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    changed_.wait(lock, [this] { return busy_ || stopping_; });
-    if (!busy_) return;  // stopping with nothing to do
-    std::function<void()> job = std::move(job_);
+    changed_.wait(lock, [this] { return !jobs_.empty() || stopping_; });
+    if (jobs_.empty()) return;  // stopping with nothing to do
+    std::function<void()> job = std::move(jobs_.front().first);
     lock.unlock();
     std::exception_ptr failure;
     try {
@@ -50,10 +55,11 @@ void BackgroundWorker::run() {
     } catch (...) {
       failure = std::current_exception();
     }
-    job = nullptr;  // release what the job held before the next one is accepted
+    job = nullptr;  // release what the job held before room is made for the next one
     lock.lock();
-    failure_ = failure;
-    busy_ = false;
+    if (failure && !failure_) failure_ = failure;
+    weight_in_worker_ -= jobs_.front().second;
+    jobs_.pop_front();
     changed_.notify_all();
   }
 }

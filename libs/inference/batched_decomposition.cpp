@@ -37,6 +37,25 @@ void append_decomposition(Decomposition& a, const Decomposition& b) {
   append(a.reconstruction, b.reconstruction);
 }
 
+Decomposition decomposition_images(const Decomposition& d, int first, int count) {
+  check(first >= 0 && count >= 0 && first + count <= d.count, "images ", first, " to ", first + count - 1,
+        " of a decomposition of ", d.count);
+  Decomposition out;
+  out.count = count;
+  out.size = d.size;
+  auto take = [&](const std::vector<float>& from, size_t per_image) {
+    return std::vector<float>(from.begin() + first * per_image, from.begin() + (first + count) * per_image);
+  };
+  const size_t plane = static_cast<size_t>(d.size) * d.size;
+  out.albedo = take(d.albedo, 3 * plane);
+  out.normal = take(d.normal, 3 * plane);
+  out.visibility = take(d.visibility, 9 * plane);
+  out.light = take(d.light, 27);
+  out.shading = take(d.shading, 3 * plane);
+  out.reconstruction = take(d.reconstruction, 3 * plane);
+  return out;
+}
+
 Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
                             int count, int size, int batch) {
   const int channels = 3 + input_prior_channels(decomposer.network().config().input_prior);

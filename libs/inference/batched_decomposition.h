@@ -28,4 +28,7 @@ Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std:
 // Appends b's images to a (equal sizes; a may be empty).
 void append_decomposition(Decomposition& a, const Decomposition& b);
 
+// Images first .. first + count - 1 of d (facetool::Error when they are not all in d).
+Decomposition decomposition_images(const Decomposition& d, int first, int count);
+
 }  // namespace facetool

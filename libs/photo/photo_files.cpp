@@ -232,15 +232,70 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
   std::atomic<int> failed{0};
   DetectionSummary summary;
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
-  // A photo's files are encoded and written on the worker while the next photo is decoded,
-  // detected and run through the network; they land together (WriteBatch: one flush per photo,
-  // all of them or none). A failure to write them (a full disk) ends the run at the next photo.
-  BackgroundWorker writer;
+  // Photos whose faces are found wait in a group until it holds options.batch faces or
+  // kGroupPixels pixels, or the writer is idle; the network then runs on all their faces in one
+  // batch. A photo's files
+  // are encoded and written on the worker while the next photos are decoded, detected and run
+  // through the network; they land together (WriteBatch: one flush per photo, all of them or
+  // none). A failure to write them (a full disk) ends the run at the next photo handed over.
+  constexpr double kGroupPixels = 2e6;
+  // The worker holds up to a group's worth of photos (at least one photo; a photo weighs its
+  // pixels, at least kGroupPixels / batch), so that the next group is found while it writes.
+  BackgroundWorker writer(kGroupPixels);
+  std::vector<FoundPhoto> group;
+  std::vector<std::string> group_folders;
+  int group_faces = 0;
+  double group_pixels = 0;
+  auto run_group = [&] {
+    if (group.empty()) return;
+    std::vector<std::string> paths, folders_now = std::move(group_folders);
+    for (const FoundPhoto& f : group) paths.push_back(f.path);
+    std::vector<DecomposedPhoto> done;
+    std::string failure;
+    try {
+      done = decomposer.decompose_found(std::move(group));
+    } catch (const std::bad_alloc&) {
+      failure = out_of_memory("running the network on the faces of these photos", 0).what();
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+    group.clear();
+    group_folders.clear();
+    group_faces = 0;
+    group_pixels = 0;
+    if (!failure.empty()) {
+      for (const std::string& path : paths) {
+        std::cerr << "\nphoto '" << path << "': " << failure << "\n";
+        ++failed;
+        progress.advance();
+      }
+      return;
+    }
+    for (size_t i = 0; i < done.size(); ++i) {
+      auto photo = std::make_shared<DecomposedPhoto>(std::move(done[i]));
+      const double weight = std::max(static_cast<double>(photo->photo.width) * photo->photo.height,
+                                     kGroupPixels / options.batch);
+      const std::string folder = (fs::path(out_dir) / folders_now[i]).string(), path = paths[i];
+      writer.submit(
+          [photo, folder, path, &options, &failed] {
+            try {
+              WriteBatch batch;
+              write_photo_files(folder, *photo, options);
+              batch.commit();
+            } catch (const std::bad_alloc&) {
+              std::cerr << "\nphoto '" << path << "': "
+                        << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
+              ++failed;
+            }
+          },
+          weight);
+      progress.advance();
+    }
+  };
   for (size_t k = 0; k < photos.size(); ++k) {
     const std::string& path = photos[k];
     // A photo that cannot be read, has no face or is too large for the memory left is reported
     // and skipped.
-    auto photo = std::make_shared<DecomposedPhoto>();
     try {
       RgbImage image;
       try {
@@ -253,12 +308,15 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
         fail("photo '", path, "': ", e.what());
       }
       try {
-        *photo = decomposer.decompose(std::move(image), path);
+        group.push_back(decomposer.find(std::move(image), path));
       } catch (const NoFaceError& e) {
         summary.add(path, 0, e.reason());
         throw;
       }
-      summary.add(path, static_cast<int>(photo->crops.size()));
+      group_folders.push_back(folders[k]);
+      summary.add(path, static_cast<int>(group.back().crops.size()));
+      group_faces += static_cast<int>(group.back().crops.size());
+      group_pixels += static_cast<double>(group.back().photo.width) * group.back().photo.height;
     } catch (const std::bad_alloc&) {
       std::cerr << "\nphoto '" << path << "': " << out_of_memory("processing photo '" + path + "'", 0).what() << "\n";
       ++failed;
@@ -270,20 +328,11 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
       progress.advance();
       continue;
     }
-    const std::string folder = (fs::path(out_dir) / folders[k]).string();
-    writer.submit([photo, folder, path, &options, &failed] {
-      try {
-        WriteBatch batch;
-        write_photo_files(folder, *photo, options);
-        batch.commit();
-      } catch (const std::bad_alloc&) {
-        std::cerr << "\nphoto '" << path << "': "
-                  << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";
-        ++failed;
-      }
-    });
-    progress.advance();
+    // A group also goes as soon as the writer has nothing to do, so that it never waits for a
+    // group to fill (the batches are as large as the writer's pace allows).
+    if (group_faces >= options.batch || group_pixels >= kGroupPixels || writer.idle()) run_group();
   }
+  run_group();
   writer.finish();
   progress.finish();
   summary.print(std::cerr);

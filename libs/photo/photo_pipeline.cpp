@@ -97,25 +97,44 @@ std::vector<FaceCrop> PhotoDecomposer::find_faces(const RgbImage& photo) {
   return find_face_crops(detector_, photo, crop_size_, options_);
 }
 
-DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& source) {
+FoundPhoto PhotoDecomposer::find(RgbImage photo, const std::string& source) {
+  const std::string named = source.empty() ? std::string("the photo") : "photo '" + source + "'";
   check(photo.width > 0 && photo.height > 0 &&
             photo.pixels.size() == static_cast<size_t>(photo.width) * photo.height * 3,
-        source.empty() ? std::string("the photo") : "photo '" + source + "'", " is not a ", photo.width, "x",
-        photo.height, " RGB image (", photo.pixels.size(), " values)");
+        named, " is not a ", photo.width, "x", photo.height, " RGB image (", photo.pixels.size(), " values)");
   std::vector<FaceCrop> crops = find_faces(photo);
   if (crops.empty()) {
     const std::string reason = no_face_reason(photo, options_.detection);
-    throw NoFaceError((source.empty() ? std::string("the photo") : "photo '" + source + "'") + ": " + reason, reason);
+    throw NoFaceError(named + ": " + reason, reason);
   }
   // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
   check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
-                      "pasting the faces back into " + (source.empty() ? std::string("the photo") : "photo '" + source + "'") +
-                          " of " + std::to_string(photo.width) + "x" + std::to_string(photo.height) + " pixels");
-  const std::vector<float> inputs = network_inputs(crops, decomposer_.network().config(), options_.prior_basis);
-  const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(crops.size()),
+                      "pasting the faces back into " + named + " of " + std::to_string(photo.width) + "x" +
+                          std::to_string(photo.height) + " pixels");
+  return {source, std::move(photo), std::move(crops)};
+}
+
+std::vector<DecomposedPhoto> PhotoDecomposer::decompose_found(std::vector<FoundPhoto> photos) {
+  std::vector<FaceCrop> all;
+  for (const FoundPhoto& p : photos) all.insert(all.end(), p.crops.begin(), p.crops.end());
+  const std::vector<float> inputs = network_inputs(all, decomposer_.network().config(), options_.prior_basis);
+  const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(all.size()),
                                         crop_size_, options_.batch);
-  return assemble_decomposed_photo(source, std::move(photo), std::move(crops), d, options_.feather,
-                                   options_.upsample);
+  std::vector<DecomposedPhoto> out;
+  int first = 0;
+  for (FoundPhoto& p : photos) {
+    const int n = static_cast<int>(p.crops.size());
+    out.push_back(assemble_decomposed_photo(p.path, std::move(p.photo), std::move(p.crops),
+                                            decomposition_images(d, first, n), options_.feather, options_.upsample));
+    first += n;
+  }
+  return out;
+}
+
+DecomposedPhoto PhotoDecomposer::decompose(RgbImage photo, const std::string& source) {
+  std::vector<FoundPhoto> one;
+  one.push_back(find(std::move(photo), source));
+  return std::move(decompose_found(std::move(one)).front());
 }
 
 DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
@@ -151,7 +170,6 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
   layers.visibility.assign(plane * 9, 0.0f);
   layers.shading.assign(plane * 3, 0.0f);
   layers.reconstruction.assign(plane * 3, 0.0f);
-  out.old_shading.assign(plane * 3, 1.0f);
   const std::vector<float> ones(crop_plane, 1.0f);
   const bool guided = upsample == Upsample::kGuided;
 
@@ -179,7 +197,6 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
     paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
     paste_channels(region, shading.data(), 3, layers.shading.data(), w, h);
     paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(), w, h);
-    paste_channels(region, shading.data(), 3, out.old_shading.data(), w, h);
     sh::RgbLight light;
     for (int i = 0; i < sh::kLightCoeffCount; ++i)
       light[i] = d.light[static_cast<size_t>(k) * sh::kLightCoeffCount + i];

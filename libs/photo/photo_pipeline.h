@@ -110,7 +110,13 @@ struct DecomposedPhoto {
   std::vector<PasteRegion> regions;        // per face
   std::vector<sh::RgbLight> photo_lights;  // per face, photo frame (docs/photos.md)
   PhotoLayers layers;
-  std::vector<float> old_shading;  // [3][w*h] estimated shading, 1 outside the faces (relighting)
+};
+
+// A photo whose faces are found and aligned, waiting for the network (PhotoDecomposer::find).
+struct FoundPhoto {
+  std::string path;  // as DecomposedPhoto's
+  RgbImage photo;    // linear RGB
+  std::vector<FaceCrop> crops;  // best detection score first; never empty
 };
 
 // The photo pipeline on photos in memory: detect, align, decompose every face in batches, paste
@@ -127,6 +133,12 @@ class PhotoDecomposer {
   // `photo` in linear RGB. Throws facetool::Error naming `source` (or "the photo") when it holds
   // no face.
   DecomposedPhoto decompose(RgbImage photo, const std::string& source = "");
+  // decompose() in two steps, so that the faces of several photos share the network's batches
+  // (infer on many photos): find() detects and aligns, and throws as decompose() does;
+  // decompose_found() runs the network on every photo's faces together, options().batch at a
+  // time, and pastes each photo's back (results in the order given).
+  FoundPhoto find(RgbImage photo, const std::string& source = "");
+  std::vector<DecomposedPhoto> decompose_found(std::vector<FoundPhoto> photos);
 
   // read_photo(path) (8-bit files decoded from sRGB), then decompose(); throws facetool::Error
   // naming the file when it cannot be read or holds no face.

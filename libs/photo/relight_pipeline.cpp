@@ -59,10 +59,19 @@ RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light
       paste_channels(photo.regions[k], crop_image.data() + k * 3 * crop_plane, 3, planar.data(), w, h);
   }
   if (settings.mode == relight::Mode::Ratio)
-    relight::apply_ratio(planar.data(), photo.old_shading.data(), out.new_shading.data(), plane,
+    relight::apply_ratio(planar.data(), estimated_shading(photo).data(), out.new_shading.data(), plane,
                          settings.ratio_epsilon, planar.data());
   out.image = rgb_from_planar(planar.data(), w, h);
   return out;
+}
+
+std::vector<float> estimated_shading(const DecomposedPhoto& photo) {
+  const std::vector<float>& alpha = photo.layers.alpha;
+  const size_t plane = alpha.size();
+  std::vector<float> shading = photo.layers.shading;
+  for (int c = 0; c < 3; ++c)
+    for (size_t p = 0; p < plane; ++p) shading[c * plane + p] += 1.0f - alpha[p];
+  return shading;
 }
 
 RgbImage shading_over_photo(const DecomposedPhoto& photo, const std::vector<float>& shading) {

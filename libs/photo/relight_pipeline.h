@@ -28,6 +28,10 @@ struct RelitPhoto {
 RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light,
                          const RelightSettings& settings, RendererPlugin& renderer, Backend& backend);
 
+// The photo's estimated shading [3][w*h], 1 where no face is: its pasted shading layer is
+// premultiplied by the faces' coverage alpha (pasted over 0), so this is that layer + 1 - alpha.
+std::vector<float> estimated_shading(const DecomposedPhoto& photo);
+
 // A planar shading layer shown over the photo (the photo where no face is), for sheets.
 RgbImage shading_over_photo(const DecomposedPhoto& photo, const std::vector<float>& shading);
 

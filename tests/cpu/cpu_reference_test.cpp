@@ -1,7 +1,9 @@
-// Hand-computed checks of the cpu backend: batch norm statistics, Adam, bilinear borders,
-// strided padded convolution against nested loops, and gradient accumulation.
+// Hand-computed checks of the cpu backend: batch norm statistics, a linear layer's rows alike in
+// any batch, Adam, bilinear borders, strided padded convolution against nested loops, and
+// gradient accumulation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/backend/registry.h"
@@ -47,6 +49,29 @@ TEST(CpuReference, BatchNormTrainEvalAndRunningStatistics) {
   EXPECT_TRUE(all_close(eval_saved.mean.to_host(), {0.3f}, 1e-6, 1e-6));
   // Eval mode leaves the running statistics alone.
   EXPECT_TRUE(all_close(running_mean.to_host(), {0.3f}, 1e-6, 1e-6));
+}
+
+TEST(CpuReference, ALinearLayersRowDoesNotDependOnItsBatch) {
+  // The paper network's light head at the shipped size: 27 outputs of 2,048 features.
+  const int64_t in = 2048, out = 27, batch = 5;
+  std::vector<float> xv(batch * in), wv(out * in), bv(out);
+  for (size_t i = 0; i < xv.size(); ++i) xv[i] = std::sin(0.37f * i);
+  for (size_t i = 0; i < wv.size(); ++i) wv[i] = 0.01f * std::cos(0.11f * i);
+  for (size_t i = 0; i < bv.size(); ++i) bv[i] = 0.1f * i;
+  const Tensor w = host(Shape{out, in}, wv), b = host(Shape{out}, bv);
+  const std::vector<float> all = ops::linear(host(Shape{batch, in}, xv), w, &b).to_host();
+  for (int64_t r = 0; r < batch; ++r) {
+    const std::vector<float> row(xv.begin() + r * in, xv.begin() + (r + 1) * in);
+    const std::vector<float> alone = ops::linear(host(Shape{1, in}, row), w, &b).to_host();
+    double reference_worst = 0;
+    for (int64_t o = 0; o < out; ++o) {
+      EXPECT_EQ(alone[o], all[r * out + o]) << "row " << r << ", output " << o;  // the same bits
+      double exact = bv[o];
+      for (int64_t k = 0; k < in; ++k) exact += double(row[k]) * wv[o * in + k];
+      reference_worst = std::max(reference_worst, std::abs(exact - alone[o]));
+    }
+    EXPECT_LT(reference_worst, 1e-4) << "row " << r;  // and right (a double-precision sum)
+  }
 }
 
 TEST(CpuReference, AdamFirstTwoSteps) {

@@ -205,7 +205,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
     fs::create_directories(folder, ec);
     check(!ec, "cannot create output folder '", folder.string(), "': ", ec.message());
     write_png_file(folder / "relit.png", relit.image);
-    const RgbImage old_shading = shading_over_photo(target, target.old_shading);
+    const RgbImage old_shading = shading_over_photo(target, estimated_shading(target));
     const RgbImage new_shading = shading_over_photo(target, relit.new_shading);
     write_png_file(folder / "shading.png", old_shading);
     write_png_file(folder / "relit_shading.png", new_shading);
