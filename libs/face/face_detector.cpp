@@ -17,6 +17,7 @@
 
 #include "libs/face/detection_bands.h"
 #include "core/util/error.h"
+#include "core/util/parallel_for.h"
 #include "core/util/math_constants.h"
 #include "core/util/file_checks.h"
 #include "core/util/stage_timer.h"
@@ -71,9 +72,21 @@ Landmarks68 to_landmarks(const dlib::full_object_detection& shape) {
 }  // namespace
 
 
+namespace {
+
+// dlib's HOG detector over all pyramid levels (the last size band), the same filters over one
+// octave (the other bands), and a copy of that one per band, so that the bands are searched in
+// parallel (a dlib detector keeps the image it scans: one object per thread).
+struct HogDetectors {
+  dlib::frontal_face_detector all_levels = dlib::get_frontal_face_detector();
+  dlib::frontal_face_detector band;
+  std::vector<dlib::frontal_face_detector> band_copies;
+};
+
+}  // namespace
+
 struct FaceDetector::Impl {
-  dlib::frontal_face_detector hog = dlib::get_frontal_face_detector();
-  dlib::frontal_face_detector hog_band;  // the same filters, searching 4 pyramid levels only
+  HogDetectors hog;
   dlib::shape_predictor predictor;
   std::string cnn_model;
   std::unique_ptr<CnnFaceDetector> cnn;  // read on first use
@@ -96,11 +109,12 @@ FaceDetector::FaceDetector(const std::string& landmark_model, const std::string&
   check(impl_->predictor.num_parts() == kLandmarkCount, "landmark model '", landmark_model,
         "' predicts ", impl_->predictor.num_parts(), " points; facetool needs the 68-point model");
   dlib::frontal_face_detector::image_scanner_type scanner;
-  scanner.copy_configuration(impl_->hog.get_scanner());
+  scanner.copy_configuration(impl_->hog.all_levels.get_scanner());
   scanner.set_max_pyramid_levels(4);  // 1, 5/6, (5/6)^2, (5/6)^3: one octave of face sizes
   std::vector<dlib::frontal_face_detector::feature_vector_type> filters;
-  for (unsigned long i = 0; i < impl_->hog.num_detectors(); ++i) filters.push_back(impl_->hog.get_w(i));
-  impl_->hog_band = dlib::frontal_face_detector(scanner, impl_->hog.get_overlap_tester(), filters);
+  for (unsigned long i = 0; i < impl_->hog.all_levels.num_detectors(); ++i)
+    filters.push_back(impl_->hog.all_levels.get_w(i));
+  impl_->hog.band = dlib::frontal_face_detector(scanner, impl_->hog.all_levels.get_overlap_tester(), filters);
   impl_->cnn_model = cnn_model;
 }
 
@@ -415,8 +429,7 @@ struct Found {
 // Every face of the upright work image, for faces of `min_size` pixels and more; `found_default`
 // says whether a face of the default minimum size `default_size` or more was found (a decision
 // that must not depend on min_size, or a smaller minimum could take the CNN's faces away).
-std::vector<Found> search_upright(dlib::frontal_face_detector& hog_all_levels,
-                                  dlib::frontal_face_detector& hog_band, const CnnFaceDetector* cnn_detector,
+std::vector<Found> search_upright(HogDetectors& hog_detectors, const CnnFaceDetector* cnn_detector,
                                   bool use_cnn, const WorkImage& work,
                                   const DetectionOptions& options, double min_size,
                                   double default_size, bool& found_default,
@@ -444,7 +457,11 @@ std::vector<Found> search_upright(dlib::frontal_face_detector& hog_all_levels,
   std::vector<std::vector<ScoredBox>> hog(all.size()), cnn(all.size());
   found_default = false;
   const bool run_hog = !use_cnn;
-  for (size_t i = 0; run_hog && i < all.size(); ++i) {
+  while (run_hog && hog_detectors.band_copies.size() < all.size())
+    hog_detectors.band_copies.push_back(hog_detectors.band);
+  // The bands in parallel, the largest (most work) first; each writes its own hog[i].
+  parallel_for(run_hog ? static_cast<int64_t>(all.size()) : 0, 1, [&](int64_t first, int64_t end) {
+  for (size_t i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
     const double scale = all[i].scale(kWindow);
     dlib::array2d<unsigned char> scaled;
     const dlib::array2d<unsigned char>* image = &work.grey;
@@ -454,15 +471,17 @@ std::vector<Found> search_upright(dlib::frontal_face_detector& hog_all_levels,
       image = &scaled;
     }
     std::vector<dlib::rect_detection> found;
-    (all[i].last ? hog_all_levels : hog_band)(*image, found, options.score_threshold);
+    (all[i].last ? hog_detectors.all_levels : hog_detectors.band_copies[i])(*image, found, options.score_threshold);
     std::vector<ScoredBox> boxes;
     for (const dlib::rect_detection& d : found)
       boxes.push_back({static_cast<double>(d.rect.left()), static_cast<double>(d.rect.top()),
                        static_cast<double>(d.rect.right() + 1), static_cast<double>(d.rect.bottom() + 1),
                        d.detection_confidence});
     hog[i] = scaled_boxes(boxes, scale, all[i]);
-    if (all[i].face_size >= default_band && !hog[i].empty()) found_default = true;
   }
+  });
+  for (size_t i = 0; run_hog && i < all.size(); ++i)
+    if (all[i].face_size >= default_band && !hog[i].empty()) found_default = true;
   const bool run_cnn = use_cnn;
   for (size_t i = 0; run_cnn && i < all.size(); ++i) {
     const double scale = all[i].scale(kWindow);
@@ -640,7 +659,7 @@ std::vector<DetectedFace> FaceDetector::detect_pass(const RgbImage& photo, const
       add_colour(work, photo, pad);
       detection_seconds_ += seconds_since(colour_start);
     }
-    add(search_upright(impl_->hog, impl_->hog_band, impl_->cnn.get(), use_cnn, work, options,
+    add(search_upright(impl_->hog, impl_->cnn.get(), use_cnn, work, options,
                        min_size, default_size, found_default, detection_seconds_),
         work.grey, dlib::point_transform_affine(), 0.0);
     for (double degrees : options.fallback_rotations_deg) {
@@ -653,7 +672,7 @@ std::vector<DetectedFace> FaceDetector::detect_pass(const RgbImage& photo, const
           dlib::rotate_image(work.grey, turned.grey, radians, dlib::interpolate_bilinear());
       if (use_cnn) dlib::rotate_image(work.rgb, turned.rgb, radians, dlib::interpolate_bilinear());
       detection_seconds_ += seconds_since(turn_start);
-      add(search_upright(impl_->hog, impl_->hog_band, impl_->cnn.get(), use_cnn, turned, options,
+      add(search_upright(impl_->hog, impl_->cnn.get(), use_cnn, turned, options,
                          min_size, default_size, found_default, detection_seconds_),
           turned.grey, dlib::inv(to_turned), degrees);
     }
