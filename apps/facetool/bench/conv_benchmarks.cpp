@@ -10,6 +10,7 @@
 #include "backends/cpu/cpu_backend_impl.h"
 #include "backends/cpu/cpu_conv_choice.h"
 #include "backends/cpu/cpu_epilogue.h"
+#include "apps/facetool/bench/process_cpu_time.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -31,13 +32,6 @@ std::vector<Layer> network_layers(int64_t c, int64_t s) {
           {"decoder.out 1x1 (shape)", c / 2, 12, 1, 1, s, 1},
           {"decoder.out 1x1 (albedo)", c / 2, 3, 1, 1, s, 1},
           {"light.layer1 1x1", 3 * c, c, 1, 1, s / 2, 1}};
-}
-
-// CPU time of the whole process (all threads), in seconds.
-double process_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 double median(std::vector<double> v) {

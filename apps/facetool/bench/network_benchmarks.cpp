@@ -7,6 +7,7 @@
 #include <ctime>
 #include <random>
 
+#include "apps/facetool/bench/process_cpu_time.h"
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
 #include "core/ops/ops.h"
@@ -29,11 +30,7 @@ Tensor random_images(Backend& be, int batch, int size, unsigned seed) {
 }
 
 // CPU time of the whole process (all threads), in ms.
-double process_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
+double process_cpu_ms() { return 1e3 * process_cpu_seconds(); }
 
 // Wall-clock and process CPU milliseconds of one run. On a machine shared with other work the
 // wall time also counts the time spent waiting for a core; the CPU time does not (facetool's
