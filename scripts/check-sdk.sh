@@ -27,7 +27,8 @@ for f in bin/facetool lib/libfacetool_core.so lib/facetool/plugins/sh_renderer.f
          lib/facetool/plugins/paper_network.ftplugin.so lib/facetool/plugins/paper_losses.ftplugin.so \
          lib/cmake/facetool/facetoolConfig.cmake lib/cmake/facetool/facetoolTargets.cmake \
          lib/pkgconfig/facetool.pc include/facetool/core/plugin/plugin_api.h \
-         lib/libfacetool.so include/facetool/libs/photo/photo_pipeline.h; do
+         lib/libfacetool.so include/facetool/libs/photo/photo_pipeline.h \
+         share/facetool/dlib/frontal_face_detector.dat; do
   [ -e "$prefix/$f" ] || fail "the install lacks $f"
 done
 if grep -q FACETOOL_BUILD_OPENCL:BOOL=ON "$build/CMakeCache.txt"; then
