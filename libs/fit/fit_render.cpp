@@ -8,7 +8,7 @@
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/ray_scene.h"
 #include "core/util/error.h"
-#include "core/util/thread_cpu_time.h"
+#include "core/util/cpu_time.h"
 
 namespace facetool {
 

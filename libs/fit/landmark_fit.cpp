@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "core/util/error.h"
-#include "core/util/thread_cpu_time.h"
+#include "core/util/cpu_time.h"
 
 namespace facetool {
 

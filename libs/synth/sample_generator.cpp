@@ -11,7 +11,7 @@
 #include "libs/synth/generator_settings.h"
 #include "libs/synth/ray_scene.h"
 #include "core/util/error.h"
-#include "core/util/thread_cpu_time.h"
+#include "core/util/cpu_time.h"
 
 namespace facetool {
 namespace {

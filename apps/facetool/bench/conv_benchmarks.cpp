@@ -10,7 +10,7 @@
 #include "backends/cpu/cpu_backend_impl.h"
 #include "backends/cpu/cpu_conv_choice.h"
 #include "backends/cpu/cpu_epilogue.h"
-#include "apps/facetool/bench/process_cpu_time.h"
+#include "core/util/cpu_time.h"
 #include "core/util/error.h"
 
 namespace facetool {

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "apps/facetool/bench/process_cpu_time.h"
+#include "core/util/cpu_time.h"
 #include "libs/photo/photo_files.h"
 #include "core/util/output_names.h"
 #include "core/util/stage_timer.h"

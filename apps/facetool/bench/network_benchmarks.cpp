@@ -7,7 +7,7 @@
 #include <ctime>
 #include <random>
 
-#include "apps/facetool/bench/process_cpu_time.h"
+#include "core/util/cpu_time.h"
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
 #include "core/ops/ops.h"
