@@ -24,33 +24,32 @@ namespace OIIO = OIIO_NAMESPACE;
 
 namespace {
 
-// OpenImageIO wants interleaved pixels; LayeredImage is planar. Each pixel holds its channels
-// in the file's own types (`half[c]`: 16-bit, else 32-bit float), so OpenImageIO passes the
-// bytes to OpenEXR unconverted. Blocks of 256 pixels keep the strided writes of every channel
-// inside a few kilobytes of cache.
-std::vector<unsigned char> interleave(const LayeredImage& image, const std::vector<bool>& half) {
-  const size_t plane = image.plane_size();
-  const size_t channels = image.channel_names.size();
-  std::vector<size_t> offset(channels);
+// OpenImageIO wants interleaved pixels; the channels lie in planes or other interleaved images.
+// Each pixel holds its channels in the file's own types (16-bit halves where asked, else 32-bit
+// floats), so OpenImageIO passes the bytes to OpenEXR unconverted. Blocks of 256 pixels keep the
+// strided writes of every channel inside a few kilobytes of cache.
+std::vector<unsigned char> interleave(size_t pixels, const std::vector<ExrChannel>& channels) {
+  std::vector<size_t> offset(channels.size());
   size_t pixel_bytes = 0;
-  for (size_t c = 0; c < channels; ++c) {
+  for (size_t c = 0; c < channels.size(); ++c) {
     offset[c] = pixel_bytes;
-    pixel_bytes += half[c] ? sizeof(Imath::half) : sizeof(float);
+    pixel_bytes += channels[c].half ? sizeof(Imath::half) : sizeof(float);
   }
   constexpr size_t kBlock = 256;
-  std::vector<unsigned char> out(plane * pixel_bytes);
-  for (size_t start = 0; start < plane; start += kBlock) {
-    const size_t end = std::min(plane, start + kBlock);
-    for (size_t c = 0; c < channels; ++c) {
-      const float* source = image.plane(static_cast<int>(c));
+  std::vector<unsigned char> out(pixels * pixel_bytes);
+  for (size_t start = 0; start < pixels; start += kBlock) {
+    const size_t end = std::min(pixels, start + kBlock);
+    for (size_t c = 0; c < channels.size(); ++c) {
+      const float* source = channels[c].data;
+      const size_t stride = channels[c].stride;
       unsigned char* target = out.data() + offset[c];
-      if (half[c])
+      if (channels[c].half)
         for (size_t p = start; p < end; ++p) {
-          const Imath::half v(source[p]);
+          const Imath::half v(source[p * stride]);
           std::memcpy(target + p * pixel_bytes, &v, sizeof v);
         }
       else
-        for (size_t p = start; p < end; ++p) std::memcpy(target + p * pixel_bytes, source + p, sizeof(float));
+        for (size_t p = start; p < end; ++p) std::memcpy(target + p * pixel_bytes, source + p * stride, sizeof(float));
     }
   }
   return out;
@@ -86,23 +85,24 @@ std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
 
 }  // namespace
 
-std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image,
-                                      const ExrStorage& storage) {
+std::vector<unsigned char> encode_exr(const std::string& path, int width, int height,
+                                      const std::vector<ExrChannel>& channels,
+                                      const std::vector<std::pair<std::string, std::string>>& metadata) {
   StageTimer timer("encode");  // the interleaving and OpenEXR's compression
-  check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
-        "cannot write '", path, "': the image is empty");
-  check(image.pixels.size() == image.plane_size() * image.channel_names.size(),
-        "cannot write '", path, "': pixel count does not match the size and channels");
-  check(storage.half.empty() || storage.half.size() == image.channel_names.size(), "cannot write '", path,
-        "': ", storage.half.size(), " storage types for ", image.channel_names.size(), " channels");
-  const std::vector<bool> half = storage.half.empty() ? std::vector<bool>(image.channel_names.size(), false)
-                                                      : storage.half;
-  const std::vector<unsigned char> interleaved = interleave(image, half);
-  OIIO::ImageSpec spec(image.width, image.height, image.channel_count(), OIIO::TypeDesc::FLOAT);
-  spec.channelnames = image.channel_names;
-  if (std::find(half.begin(), half.end(), true) != half.end()) {
+  check(width > 0 && height > 0 && !channels.empty(), "cannot write '", path, "': the image is empty");
+  for (const ExrChannel& c : channels)
+    check(c.data != nullptr && c.stride >= 1, "cannot write '", path, "': channel '", c.name, "' has no pixels");
+  const std::vector<unsigned char> interleaved = interleave(static_cast<size_t>(width) * height, channels);
+  OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames.clear();
+  bool any_half = false;
+  for (const ExrChannel& c : channels) {
+    spec.channelnames.push_back(c.name);
+    any_half = any_half || c.half;
+  }
+  if (any_half) {
     spec.channelformats.clear();
-    for (bool h : half) spec.channelformats.push_back(h ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    for (const ExrChannel& c : channels) spec.channelformats.push_back(c.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
   }
   spec.alpha_channel = -1;
   spec.z_channel = -1;
@@ -112,9 +112,19 @@ std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImag
   // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
   // empty so the same content always gives the same bytes.
   spec.attribute("DateTime", "");
-  for (const auto& [name, value] : image.metadata) spec.attribute(name, value);
+  for (const auto& [name, value] : metadata) spec.attribute(name, value);
   // The bytes are already in the file's channel types: no conversion.
   return encode_image(path, "openexr", spec, OIIO::TypeDesc::UNKNOWN, interleaved.data());
+}
+
+std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image) {
+  check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),
+        "cannot write '", path, "': the image is empty");
+  check(image.pixels.size() == image.plane_size() * image.channel_names.size(),
+        "cannot write '", path, "': pixel count does not match the size and channels");
+  std::vector<ExrChannel> channels;
+  for (int c = 0; c < image.channel_count(); ++c) channels.push_back({image.channel_names[c], image.plane(c)});
+  return encode_exr(path, image.width, image.height, channels, image.metadata);
 }
 
 void write_exr_atomically(const std::string& path, const LayeredImage& image) {

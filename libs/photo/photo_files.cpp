@@ -23,7 +23,6 @@
 #include "libs/face/rgba_png.h"
 #include "libs/fit/photo_fit.h"
 #include "libs/io/exr_io.h"
-#include "libs/io/layered_image.h"
 #include "libs/photo/decomposition_files.h"
 #include "core/util/atomic_file.h"
 #include "core/util/background_worker.h"
@@ -154,28 +153,23 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   }
   std::vector<EncodeJob> jobs;
   jobs.push_back({at("photo.exr"), [&] {
-    std::vector<std::string> names = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
-                                      "normal.X", "normal.Y", "normal.Z"};
-    for (int i = 0; i < 9; ++i) names.push_back("visibility." + std::to_string(i));
-    for (const char* layer : {"shading", "reconstruction"})
-      for (const char* c : {"R", "G", "B"}) names.push_back(std::string(layer) + "." + c);
-    LayeredImage exr(w, h, names);
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c) exr.plane(c)[p] = input.pixels[p * 3 + c];
-    std::copy(alpha.begin(), alpha.end(), exr.plane(3));
-    std::copy(layers.albedo.begin(), layers.albedo.end(), exr.plane(4));
-    std::copy(layers.normal.begin(), layers.normal.end(), exr.plane(7));
-    std::copy(layers.visibility.begin(), layers.visibility.end(), exr.plane(10));
-    std::copy(layers.shading.begin(), layers.shading.end(), exr.plane(19));
-    std::copy(layers.reconstruction.begin(), layers.reconstruction.end(), exr.plane(22));
-    exr.set_metadata("facetool:source", photo.path);
-    exr.set_metadata("facetool:faces", std::to_string(n));
     // The photo and its alpha as 32-bit floats (the input kept exactly); the layers the network
-    // made as 16-bit halves (docs/photos.md: half the file, and faster to write).
-    ExrStorage storage;
-    storage.half.assign(names.size(), true);
-    std::fill_n(storage.half.begin(), 4, false);
-    return encode_exr(at("photo.exr"), exr, storage);
+    // made as 16-bit halves (docs/photos.md: half the file, and faster to write). Read where
+    // they lie: no planar copy of the 25 channels.
+    std::vector<ExrChannel> channels;
+    for (int c = 0; c < 3; ++c) channels.push_back({std::string(1, "RGB"[c]), input.pixels.data() + c, 3, false});
+    channels.push_back({"A", alpha.data(), 1, false});
+    auto add = [&](const std::string& layer, const char* components, const std::vector<float>& planes) {
+      for (size_t c = 0; components[c]; ++c)
+        channels.push_back({layer + "." + components[c], planes.data() + c * plane, 1, true});
+    };
+    add("albedo", "RGB", layers.albedo);
+    add("normal", "XYZ", layers.normal);
+    add("visibility", "012345678", layers.visibility);
+    add("shading", "RGB", layers.shading);
+    add("reconstruction", "RGB", layers.reconstruction);
+    return encode_exr(at("photo.exr"), w, h, channels,
+                      {{"facetool:source", photo.path}, {"facetool:faces", std::to_string(n)}});
   }});
   const std::pair<const char*, const std::vector<float>*> colour_layers[] = {
       {"albedo.png", &layers.albedo}, {"shading.png", &layers.shading}, {"reconstruction.png", &layers.reconstruction}};

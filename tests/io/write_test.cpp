@@ -156,24 +156,32 @@ TEST_F(AtomicWrite, ExrHalfChannelsReadBackWithinHalfPrecisionAndFloatChannelsEx
   std::uniform_real_distribution<float> value(-10.0f, 10.0f);
   for (float& v : image.pixels) v = value(rng) * (rng() % 4 == 0 ? 1e-3f : 1.0f);
   std::fill_n(image.plane(4), 40, 0.0f);  // runs of zeros, as outside the faces
-  ExrStorage storage;
-  storage.half = {false, true, false, true, true};
-  const std::vector<unsigned char> mixed = encode_exr(file("mixed.exr"), image, storage);
+  // Channels 0-2 read from an interleaved copy (stride 3), 3-4 from the planes.
+  std::vector<float> interleaved(image.plane_size() * 3);
+  for (size_t p = 0; p < image.plane_size(); ++p)
+    for (int c = 0; c < 3; ++c) interleaved[p * 3 + c] = image.plane(c)[p];
+  const bool half[5] = {false, true, false, true, true};
+  std::vector<ExrChannel> channels;
+  for (int c = 0; c < 5; ++c)
+    channels.push_back({image.channel_names[c], c < 3 ? interleaved.data() + c : image.plane(c), c < 3 ? 3u : 1u,
+                        half[c]});
+  const std::vector<unsigned char> mixed = encode_exr(file("mixed.exr"), 37, 23, channels, {{"facetool:source", "a test"}});
   const std::vector<unsigned char> full = encode_exr(file("full.exr"), image);
   EXPECT_LT(mixed.size(), full.size());
   write_file_atomically(file("mixed.exr"), mixed.data(), mixed.size());
-  const LayeredImage back = read_exr(file("mixed.exr"));
+  const LayeredImage back = read_exr(file("mixed.exr"), "facetool:");
   ASSERT_EQ(back.channel_names, image.channel_names);
+  ASSERT_EQ(back.metadata.size(), 1u);
   for (int c = 0; c < 5; ++c)
     for (size_t p = 0; p < image.plane_size(); ++p) {
       const float v = image.plane(c)[p], r = back.plane(c)[p];
-      if (storage.half[c])  // 10 mantissa bits, rounded: 2^-11 relative (normal halves here)
+      if (half[c])  // 10 mantissa bits, rounded: 2^-11 relative (normal halves here)
         EXPECT_NEAR(r, v, std::abs(v) * 0x1p-11f + 1e-7f) << c << " " << p;
       else
         EXPECT_EQ(r, v) << c << " " << p;
     }
-  storage.half = {true, true};  // two flags for five channels
-  EXPECT_THROW(encode_exr(file("bad.exr"), image, storage), Error);
+  channels[2].data = nullptr;  // a channel without pixels
+  EXPECT_THROW(encode_exr(file("bad.exr"), 37, 23, channels, {}), Error);
 }
 
 TEST_F(AtomicWrite, LightJsonKeysAreInChannelOrder) {
