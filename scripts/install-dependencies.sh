@@ -7,6 +7,7 @@ packages=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo libclblast-dev
   libdnnl-dev libopenblas-dev
   libembree-dev libopenimageio-dev openimageio-tools
+  libimath-dev   # Imath's half type: photo.exr's 16-bit channels (comes with OpenImageIO's headers)
   libdeflate-dev  # the PNGs facetool writes (docs/dependencies.md)
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights

@@ -35,7 +35,7 @@ namespace {
 int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   po::options_description options("Options");
   options.add_options()
-      ("batch", po::value<int>()->default_value(8), "images per network pass")
+      ("batch", po::value<int>()->default_value(8), "images (face crops, from one photo or several) per network pass")
       ("shard", po::value<std::string>()->default_value("0/1")->value_name("i/n"),
        "decompose only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
