@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/facetool/allocator_tuning.h"
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/registry.h"
@@ -160,6 +161,7 @@ int main(int argc, char** argv) {
   // instead of killing the process with its temporaries left; interrupted runs remove theirs.
   std::signal(SIGXFSZ, SIG_IGN);
   facetool::remove_temporaries_on_fatal_signals();
+  facetool::keep_freed_memory_for_reuse();
   std::string command_name;
   try {
     const int code = facetool::run(std::vector<std::string>(argv + 1, argv + argc), command_name);
