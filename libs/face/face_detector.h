@@ -102,13 +102,22 @@ struct DetectionOptions {
   std::vector<double> fallback_rotations_deg = {-30, 30, -90, 90, 180};
 };
 
+// Which compiled copy of the detector runs (the same code and results; docs/photos.md, "Speed"):
+// the fastest this CPU can run (dlib's code built for AVX2 where the build and the CPU have it),
+// or the portable one, which the tests compare it with. FACETOOL_PORTABLE_DETECTOR=1 in the
+// environment makes `fastest` portable too.
+enum class DetectorCode { fastest, portable };
+
+class FaceDetectorEngine;
+
 class FaceDetector {
  public:
   // Loads the landmark model (about one second); throws facetool::Error naming the file and
   // the Debian package when it is missing or unreadable. The CNN model is read when a detection
   // first needs it (or by prepare()).
   explicit FaceDetector(const std::string& landmark_model = kDefaultLandmarkModel,
-                        const std::string& cnn_model = kDefaultCnnFaceModel);
+                        const std::string& cnn_model = kDefaultCnnFaceModel,
+                        DetectorCode code = DetectorCode::fastest);
   ~FaceDetector();
   FaceDetector(const FaceDetector&) = delete;
   FaceDetector& operator=(const FaceDetector&) = delete;
@@ -127,18 +136,16 @@ class FaceDetector {
                                double bottom);
 
   // Seconds the last detect() spent in detection and in the landmark fit (for benchmarks).
-  double last_detection_seconds() const { return detection_seconds_; }
-  double last_landmark_seconds() const { return landmark_seconds_; }
+  double last_detection_seconds() const;
+  double last_landmark_seconds() const;
+  // The copy that runs: "avx2" or "portable".
+  const char* code_name() const { return code_name_; }
+  // Whether this build has the AVX2 copy and this CPU can run it.
+  static bool avx2_available();
 
  private:
-  // One detection over the photo, or over its brightened copy. `near_minimum`: search only the
-  // size bands from the minimum face size up (no smaller default-size bands for the decision
-  // to turn the photo or run the CNN), for a second look at a known face.
-  std::vector<DetectedFace> detect_pass(const RgbImage& photo, const DetectionOptions& options, bool brighten,
-                                        bool near_minimum = false);
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  double detection_seconds_ = 0, landmark_seconds_ = 0;
+  std::unique_ptr<FaceDetectorEngine> engine_;
+  const char* code_name_ = "portable";
 };
 
 // Why detect() found no face in `photo` (for the message and the summary): the photo is smaller

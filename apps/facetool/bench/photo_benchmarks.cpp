@@ -62,7 +62,8 @@ void run_photo_benchmarks(const std::string& photo_path, int crop_size, int repe
   FaceDetector detector;
   const RgbImage photo = read_photo(photo_path);
   out << "photo pipeline on cpu (" << photo_path << ", crop " << crop_size << ", median of "
-      << repeats << "; the 12 MP photo is the same one enlarged; detector auto, then hog and cnn alone)\n";
+      << repeats << "; the 12 MP photo is the same one enlarged; detector auto, then hog and cnn alone; "
+      << detector.code_name() << " copy of the detector)\n";
   // The default landmark fit (mirrored, on a chip) and one plain fit in the box.
   DetectionOptions one_fit;
   one_fit.mirror_landmarks = false;
