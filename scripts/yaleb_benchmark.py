@@ -20,8 +20,8 @@ azimuth strobes at elevation 0): as given, padded (cut back to the photo), and `
 it also gathers each subject's landmarks for the template. `score` scores every prediction
 folder (`DIR/<photo stem>/normal.exr`, or infer's `photo.exr`) against the PS normals inside the
 reliability mask (where the template is defined), with the constant normal and a leave-one-out
-mean-face template on the same pixels, and prints the tables (the paper's Table 1 form, plus
-coverage). docs/benchmarks.md has the method and the figures. The data stays where it is; all
+mean-face template on the same pixels (for the fit also the template placed by each photo's own
+landmarks), and prints the tables (the paper's Table 1 form, plus coverage). docs/benchmarks.md has the method and the figures. The data stays where it is; all
 output goes to the cache (default build/yaleb).
 """
 import argparse
@@ -742,6 +742,23 @@ def warp_normals(normal, valid, m, shape):
     return np.where(out_valid[:, :, None], n / np.maximum(length, 1e-12)[:, :, None], 0.0), out_valid
 
 
+def photo_landmarks(folder, stem):
+    """The 68 landmarks (photo pixels) of one photo's largest face as a prediction folder
+    recorded them (`fit`'s fit.json or `infer`'s faces.json), or None."""
+    for name, key in (("fit.json", None), ("faces.json", "faces")):
+        path = os.path.join(folder, stem, name)
+        if not os.path.exists(path):
+            continue
+        with open(path) as f:
+            doc = json.load(f)
+        face = doc if key is None else (doc.get(key) or [None])[0]
+        if face and "landmarks" in face:
+            pts = np.asarray(face["landmarks"], np.float64).reshape(-1, 2)
+            if pts.shape == (68, 2):
+                return pts
+    return None
+
+
 INNER = slice(17, 68)    # the 51 inner landmarks (brows, eyes, nose, mouth); the jaw slides
 
 
@@ -894,8 +911,26 @@ def command_score(args):
 
         predictors[label] = predict
     fit = predictors.get("fit")
+    # The template a single photo can have: the other subjects' normals aligned by this photo's
+    # own landmarks (the ones the fit got), not by the subject's median over its well-lit photos.
+    own_templates = {}
+
+    def template_by_own_landmarks(s, stem, folder):
+        if stem not in own_templates:
+            pts = photo_landmarks(folder, stem)
+            own_templates[stem] = None if pts is None else \
+                leave_one_out_template(s, refs, {**landmarks, s: pts}, True)
+        return own_templates[stem]
+
     for label, predict in predictors.items():
         score(label, predict)
+        if label == "fit":
+            folder = dict(spec.partition("=")[::2] for spec in candidates)["fit"]
+            score("  template aligned by each photo's own landmarks (the fit's), on the fit's pixels",
+                  lambda s, stem: None if template_by_own_landmarks(s, stem, folder) is None
+                  or predict(s, stem) is None else
+                  (template_by_own_landmarks(s, stem, folder)[0],
+                   template_by_own_landmarks(s, stem, folder)[1] & predict(s, stem)[1]))
         # The baselines on exactly the pixels this candidate covers.
         score(f"  constant normal, on {label}'s pixels", lambda s, stem, p=predict:
               None if p(s, stem) is None else (constant, p(s, stem)[1]))

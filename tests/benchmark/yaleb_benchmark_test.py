@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Tests of scripts/yaleb_benchmark.py on synthetic data: the PS solver, the light convention, the scorer, the template's warp."""
+"""Tests of scripts/yaleb_benchmark.py on synthetic data: the PS solver, the light convention, the scorer, the template's warp, reading a photo's landmarks."""
 import json
 import math
 import os
@@ -219,6 +219,25 @@ class TemplateWarp(unittest.TestCase):
                              math.sin(t) * warped[..., 0] + math.cos(t) * warped[..., 1],
                              warped[..., 2]], -1)
         self.assertGreater(np.median(yb.angular_error_deg(unturned[both], target[both])), 3.0)
+
+
+class PhotoLandmarks(unittest.TestCase):
+    def test_reads_the_fits_and_infers_landmarks_and_nothing_else(self):
+        pts = [[float(i), 2.0 * i + 0.5] for i in range(68)]
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "fitted"))
+            with open(os.path.join(d, "fitted", "fit.json"), "w") as f:
+                json.dump({"landmarks": pts, "pose": {}}, f)
+            os.makedirs(os.path.join(d, "inferred"))
+            with open(os.path.join(d, "inferred", "faces.json"), "w") as f:
+                json.dump({"faces": [{"landmarks": pts[::-1]}, {"landmarks": pts}]}, f)
+            os.makedirs(os.path.join(d, "no-face"))
+            with open(os.path.join(d, "no-face", "faces.json"), "w") as f:
+                json.dump({"faces": []}, f)
+            np.testing.assert_array_equal(yb.photo_landmarks(d, "fitted"), np.array(pts))
+            np.testing.assert_array_equal(yb.photo_landmarks(d, "inferred"), np.array(pts[::-1]))  # the first face
+            self.assertIsNone(yb.photo_landmarks(d, "no-face"))
+            self.assertIsNone(yb.photo_landmarks(d, "missing"))
 
 
 class Pgm(unittest.TestCase):
