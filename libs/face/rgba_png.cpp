@@ -19,15 +19,12 @@ std::vector<unsigned char> encode_rgba_png(const std::string& path, const RgbIma
         "': empty image or alpha of the wrong size");
   StageTimer timer("encode");  // 8-bit conversion and compression
   std::vector<uint8_t> bytes(count * 4);
-  auto quantise = [](float v) {
-    return static_cast<uint8_t>(std::lround((v == v ? std::clamp(v, 0.0f, 1.0f) : 0.0f) * 255.0f));
-  };
   for (size_t p = 0; p < count; ++p) {
     for (int c = 0; c < 3; ++c) {
       const float v = rgb.pixels[p * 3 + c];
-      bytes[p * 4 + c] = encode_srgb ? linear_to_srgb8(v) : quantise(v);
+      bytes[p * 4 + c] = encode_srgb ? linear_to_srgb8(v) : unit_to_byte(v);
     }
-    bytes[p * 4 + 3] = quantise(alpha[p]);
+    bytes[p * 4 + 3] = unit_to_byte(alpha[p]);
   }
   return encode_png8(path, rgb.width, rgb.height, 4, bytes.data());
 }

@@ -190,8 +190,7 @@ std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& r
       bytes[i] = linear_to_srgb8(rgb.pixels[i]);
       continue;
     }
-    const float v = std::min(1.0f, std::max(0.0f, rgb.pixels[i]));
-    bytes[i] = static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
+    bytes[i] = unit_to_byte(rgb.pixels[i]);
   }
   return encode_png8(path, rgb.width, rgb.height, 3, bytes.data());
 }

@@ -46,6 +46,14 @@ float srgb_to_linear(float encoded);
 // binary search over the 255 linear values where the byte steps (computed once from
 // linear_to_srgb itself), several times faster than the power function per pixel.
 uint8_t linear_to_srgb8(float linear);
+// lround(255 * v) of v clamped to [0, 1], 0 for NaN: a value written as a byte as it is (data
+// pictures such as normals as (n + 1) / 2, alpha). The same byte, with the rounding done by a
+// truncation and an exact comparison of the remainder instead of a call to lround.
+inline uint8_t unit_to_byte(float v) {
+  const float x = (v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f) * 255.0f;  // NaN fails v > 0
+  const int whole = static_cast<int>(x);
+  return static_cast<uint8_t>(whole + (x - static_cast<float>(whole) >= 0.5f));
+}
 
 // Writes `rgb` (linear values, clamped to [0, 1], sRGB-encoded on the way) as an 8-bit PNG,
 // atomically (temporary name, then rename). With encode_srgb = false the values are written as

@@ -37,8 +37,9 @@ namespace fs = std::filesystem;
 namespace facetool {
 namespace {
 
-// One photo-level PNG's bytes: the premultiplied layer over the input, or un-premultiplied with
-// alpha. `input` is the photo in linear RGB when the layer is (encode_srgb), else sRGB-encoded.
+// One photo-level PNG's bytes: the premultiplied layer over the photo (`input`, linear RGB), or
+// un-premultiplied with alpha. A linear layer (encode_srgb) is composited in linear values, a
+// data layer over the photo's sRGB encoding.
 std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
                                             const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
   const size_t plane = alpha.size();
@@ -47,11 +48,24 @@ std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage la
       for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] = alpha[p] > 0 ? layer.pixels[p * 3 + c] / alpha[p] : 0.0f;
     return encode_rgba_png(path, layer, alpha, encode_srgb);
   }
+  if (encode_srgb) {  // a linear layer over the linear photo, sRGB-encoded as one
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] += (1 - alpha[p]) * input.pixels[p * 3 + c];
+    return encode_png(path, layer, true);
+  }
+  // A data layer (normals, visibility: written as they are) over the photo sRGB-encoded. Where
+  // only the photo shows (alpha 0, layer 0), its byte comes from linear_to_srgb8, the same byte
+  // as writing linear_to_srgb(x) (255 b / 255 rounds back to b) without the power function.
   for (size_t p = 0; p < plane; ++p)
     for (int c = 0; c < 3; ++c) {
-      layer.pixels[p * 3 + c] += (1 - alpha[p]) * input.pixels[p * 3 + c];
+      float& v = layer.pixels[p * 3 + c];
+      const float x = input.pixels[p * 3 + c];
+      if (alpha[p] == 0 && v == 0)
+        v = static_cast<float>(linear_to_srgb8(x)) / 255.0f;
+      else
+        v += (1 - alpha[p]) * linear_to_srgb(x);
     }
-  return encode_png(path, layer, encode_srgb);
+  return encode_png(path, layer, false);
 }
 
 // A file to encode: its path and the function that makes its bytes.
@@ -145,12 +159,6 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   const RgbImage& input = photo.photo;
   const std::vector<float>& alpha = layers.alpha;
   const bool transparent = options.transparent;
-  // The photo sRGB-encoded, under the normal and visibility pictures (made once for both).
-  RgbImage input_srgb;
-  if (!transparent) {
-    input_srgb = input;
-    for (float& v : input_srgb.pixels) v = linear_to_srgb(v);
-  }
   std::vector<EncodeJob> jobs;
   jobs.push_back({at("photo.exr"), [&] {
     // The photo and its alpha as 32-bit floats (the input kept exactly); the layers the network
@@ -182,7 +190,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
         normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
-    return encode_layer_png(at("normal.png"), std::move(normal_png), input_srgb, alpha, transparent, false);
+    return encode_layer_png(at("normal.png"), std::move(normal_png), input, alpha, transparent, false);
   }});
   jobs.push_back({at("visibility.png"), [&] {
     RgbImage visibility_png;
@@ -192,7 +200,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input_srgb, alpha, transparent, false);
+    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, alpha, transparent, false);
   }});
   if (options.contact_sheet)
     jobs.push_back({at("contact_sheet.png"), [&] {

@@ -1,11 +1,12 @@
 // linear_to_srgb8 (a search over precomputed steps) gives the byte of the direct computation,
 // lround(255 * linear_to_srgb(v)), for every value tried: around each step, at random, and at
-// the special values; read_rgb_image's table for 8-bit files gives the floats of the per-value
+// the special values; unit_to_byte rounds as lround; read_rgb_image's table for 8-bit files gives the floats of the per-value
 // decoding of OpenImageIO's floats.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -52,6 +53,49 @@ TEST(Srgb8, SameByteAsTheDirectComputation) {
   EXPECT_GT(checked, 2000000);
   EXPECT_EQ(linear_to_srgb8(1.0f), 255);
   EXPECT_EQ(linear_to_srgb8(0.5f), 188);  // 255 * (1.055 * 0.5^(1/2.4) - 0.055) = 187.52
+}
+
+// unit_to_byte against lround(255 * v) of the clamped value, on the floats from -1.25 to 1.25
+// (every 61st bit pattern: about 35 million), the halves k + 0.5 exactly and the floats beside
+// them, and the special values; and the byte of linear_to_srgb8(x) / 255 (how a data layer's
+// picture writes the photo where only the photo shows) is the byte of linear_to_srgb(x).
+uint8_t rounded_directly(float v) {
+  const float c = std::min(1.0f, std::max(0.0f, v));
+  return static_cast<uint8_t>(std::lround((c == c ? c : 0.0f) * 255.0f));
+}
+
+TEST(Srgb8, UnitToByteRoundsAsLround) {
+  long checked = 0;
+  auto check_value = [&](float v) {
+    ++checked;
+    ASSERT_EQ(unit_to_byte(v), rounded_directly(v)) << v;
+  };
+  for (uint32_t bits = 0;; bits += 61) {  // every 61st float from 0 up, and its negative
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (v > 1.25f) break;
+    check_value(v);
+    check_value(-v);
+  }
+  for (int k = 0; k < 255; ++k) {  // the values whose 255 v is k + 0.5, and their neighbours
+    const float half = (k + 0.5f) / 255.0f;
+    float v = half;
+    for (int i = 0; i < 8; ++i) v = std::nextafter(v, -1.0f);
+    for (int i = 0; i < 17; ++i, v = std::nextafter(v, 2.0f)) check_value(v);
+  }
+  for (float special : {0.0f, -0.0f, 1.0f, -1.0f, 2.0f, std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                        std::numeric_limits<float>::denorm_min()})
+    check_value(special);
+  EXPECT_GT(checked, 10000000);
+  EXPECT_EQ(unit_to_byte(0.5f), 128);  // 127.5 rounds away from zero
+  EXPECT_EQ(unit_to_byte(127.49f / 255.0f), 127);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> wide(-0.5f, 1.5f);
+  for (int i = 0; i < 1000000; ++i) {
+    const float x = wide(random);
+    ASSERT_EQ(unit_to_byte(static_cast<float>(linear_to_srgb8(x)) / 255.0f), unit_to_byte(linear_to_srgb(x))) << x;
+  }
 }
 
 TEST(Srgb8, EightBitFilesReadThroughTheTableAsThroughThePowerFunction) {
