@@ -24,7 +24,6 @@
 #include "core/util/parallel_for.h"
 #include "core/util/math_constants.h"
 #include "core/util/file_checks.h"
-#include "core/util/shared_library.h"
 #include "core/util/stage_timer.h"
 
 #if defined(FACETOOL_DETECTOR_AVX2)

@@ -1,5 +1,6 @@
 // The build's decoded copy of dlib's HOG frontal face detector is found beside the program and
-// holds, byte for byte, the detector dlib decodes from its built-in string.
+// holds, byte for byte, the detector dlib decodes from its built-in string; so do the bytes both
+// engine copies fall back to without it (portable::builtin_hog_detector_bytes).
 #include <gtest/gtest.h>
 
 #include <dlib/image_processing/frontal_face_detector.h>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "libs/face/face_detector.h"
+#include "libs/face/face_detector_engine.h"
 
 namespace facetool {
 namespace {
@@ -24,6 +26,7 @@ TEST(HogDetectorCopy, TheBuildsCopyIsDlibsOwnDetector) {
   EXPECT_GT(copy.size(), 100000u);
   EXPECT_TRUE(copy == dlibs.str()) << path << ": " << copy.size() << " bytes against dlib's "
                                    << dlibs.str().size() << " (a copy from another dlib? rebuild)";
+  EXPECT_TRUE(portable::builtin_hog_detector_bytes() == copy) << "the engines' fallback bytes differ from the copy";
 }
 
 }  // namespace
