@@ -5,6 +5,7 @@
 #include <map>
 
 #include "libs/fit/fit_prior.h"
+#include "libs/fit/normal_smoothing.h"
 #include "libs/synth/gbuffer.h"
 #include "core/util/error.h"
 
@@ -19,7 +20,11 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   const FaceFit fit = fit_landmarks(basis, target, options.fit);
   FitRenderSettings render = options.render;
   render.visibility = true;
-  const FitRendering rendering = render_fit(basis.model(), fit, &sampler, render);
+  render.normal_smoothing = 0;  // the input prior below takes the mesh's own normals, as at run time
+  FitRendering rendering = render_fit(basis.model(), fit, &sampler, render);
+  const std::vector<float> mesh_normals = rendering.normal;
+  smooth_normals(rendering.normal, rendering.head, sample.width, sample.height,
+                 options.render.normal_smoothing * fitted_eye_distance_px(fit, rendering.mesh));
   const size_t plane = sample.plane_size();
   std::vector<float> image(3 * plane);
   for (int c = 0; c < 3; ++c) std::copy(sample.plane(c == 0 ? r : c == 1 ? g : b), sample.plane(c == 0 ? r : c == 1 ? g : b) + plane, image.begin() + c * plane);
@@ -64,9 +69,10 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   out.set_metadata("facetool:pseudo_labels", label);
   std::snprintf(buffer, sizeof buffer, "%.4g", fit.rms_px);
   out.set_metadata("facetool:fit_landmark_rms_px", buffer);
-  // The same normals as the input prior, when the fit's settings make one (input_prior_name).
+  // The mesh's own normals (unsmoothed, as fit_prior_normals gives them at run time) as the input
+  // prior, when the fit's settings make one (input_prior_name).
   const std::string prior = input_prior_name(options.fit);
-  return prior.empty() ? out : with_prior_channels(out, rendering.normal, 0.0, prior);
+  return prior.empty() ? out : with_prior_channels(out, mesh_normals, 0.0, prior);
 }
 
 }  // namespace facetool

@@ -12,9 +12,9 @@
 namespace facetool {
 
 // `sample` holds R G B (linear), mask and facetool:landmarks (136 crop-pixel numbers). Returns
-// the sample with channels albedo.R/G/B, normal.X/Y/Z, visibility.0..8 added (replaced if
-// present), mask replaced by the fitted face region, the fitted normals also as the input prior
-// prior.X/Y/Z (libs/fit/fit_prior.h; only when the fit's settings make one: input_prior_name), facetool:light_sh (27 numbers) and
+// the sample with channels albedo.R/G/B, normal.X/Y/Z (smoothed by options.render's
+// normal_smoothing), visibility.0..8 added (replaced if present), mask replaced by the fitted face
+// region, the fitted mesh's own (unsmoothed) normals as the input prior prior.X/Y/Z (libs/fit/fit_prior.h; only when the fit's settings make one: input_prior_name), facetool:light_sh (27 numbers) and
 // facetool:pseudo_labels = `label`; other channels and attributes kept. Throws facetool::Error
 // naming `source` when the sample lacks landmarks or colour channels.
 LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "libs/fit/normal_smoothing.h"
 #include "libs/synth/gbuffer.h"
 #include "libs/synth/ray_scene.h"
 #include "core/util/error.h"
@@ -23,6 +24,12 @@ FaceMesh fitted_mesh(const FaceModel& model, const FaceFit& fit) {
   FaceMesh mesh = model.build(weights);
   for (Vec3f& p : mesh.positions) p = fit.to_camera(p);
   return mesh;
+}
+
+double fitted_eye_distance_px(const FaceFit& fit, const FaceMesh& mesh) {
+  const Point2 a = fit.project(mesh.positions.at(fit.vertices[36]));
+  const Point2 b = fit.project(mesh.positions.at(fit.vertices[45]));
+  return std::hypot(a.x - b.x, a.y - b.y);
 }
 
 FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const VisibilitySampler* sampler,
@@ -95,6 +102,9 @@ FitRendering render_fit(const FaceModel& model, const FaceFit& fit, const Visibi
     for (int c = 0; c < 3; ++c) out.normal[c * plane + p] = g.normal[p][c];
     out.depth[p] = g.depth[p];
   }
+  if (settings.normal_smoothing != 0)
+    smooth_normals(out.normal, out.head, fit.width, fit.height,
+                   settings.normal_smoothing * fitted_eye_distance_px(fit, out.mesh));
   out.seconds_geometry = since(start);
   if (settings.visibility) {
     const double visibility_start = thread_cpu_seconds();

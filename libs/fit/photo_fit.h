@@ -17,6 +17,10 @@
 namespace facetool {
 
 struct PhotoFitOptions {
+  // The products' normals are smoothed by this fraction of the eye distance unless told
+  // otherwise (docs/fit.md, "Smoothed normals": measured on photo-textured renders).
+  static constexpr double kDefaultNormalSmoothing = 0.025;
+  PhotoFitOptions() { render.normal_smoothing = kDefaultNormalSmoothing; }
   FitSettings fit;
   FitRenderSettings render;
   int direction_count = 872;  // visibility directions, as the synthetic generator's

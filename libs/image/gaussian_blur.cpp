@@ -1,6 +1,7 @@
 // A separable Gaussian blur with the kernel renormalised at the image's edges.
 #include "gaussian_blur.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -23,29 +24,56 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
   for (int k = -radius; k <= radius; ++k)
     kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
 
-  // One pass along an axis: the `count` samples `stride` apart from `in` to `out`.
-  auto pass = [&](const float* in, float* out, int count, int64_t stride) {
+  // Rows: each output the kernel's weighted mean of the samples inside the row; the interior,
+  // where the whole kernel fits, without the bounds checks and with the kernel's full sum.
+  double kernel_sum = 0;
+  for (double k : kernel) kernel_sum += k;
+  auto row_pass = [&](const float* in, float* out, int count) {
     for (int i = 0; i < count; ++i) {
       double sum = 0, weight = 0;
-      for (int k = -radius; k <= radius; ++k) {
-        const int j = i + k;
-        if (j < 0 || j >= count) continue;
-        sum += kernel[k + radius] * in[j * stride];
-        weight += kernel[k + radius];
+      if (i >= radius && i + radius < count) {
+        const float* window = in + i - radius;
+        for (int k = 0; k <= 2 * radius; ++k) sum += kernel[k] * window[k];
+        weight = kernel_sum;
+      } else {
+        for (int k = -radius; k <= radius; ++k) {
+          const int j = i + k;
+          if (j < 0 || j >= count) continue;
+          sum += kernel[k + radius] * in[j];
+          weight += kernel[k + radius];
+        }
       }
-      out[i * stride] = static_cast<float>(sum / weight);
+      out[i] = static_cast<float>(sum / weight);
+    }
+  };
+  // Columns: a whole output row at a time, from the input rows the kernel reaches (contiguous
+  // loads; the same sums as one column at a time).
+  std::vector<double> sums(static_cast<size_t>(width));
+  auto column_pass = [&](const float* in, float* out) {
+    for (int y = 0; y < height; ++y) {
+      std::fill(sums.begin(), sums.end(), 0.0);
+      double weight = 0;
+      for (int k = -radius; k <= radius; ++k) {
+        const int j = y + k;
+        if (j < 0 || j >= height) continue;
+        const double g = kernel[k + radius];
+        const float* row = in + static_cast<int64_t>(j) * width;
+        for (int x = 0; x < width; ++x) sums[x] += g * row[x];
+        weight += g;
+      }
+      float* target = out + static_cast<int64_t>(y) * width;
+      for (int x = 0; x < width; ++x) target[x] = static_cast<float>(sums[x] / weight);
     }
   };
   std::vector<float> rows(image.size()), result(image.size());
   for (int c = 0; c < channels; ++c) {
     const float* src = image.data() + c * plane;
     float* mid = rows.data() + c * plane;
-    float* dst = result.data() + c * plane;
     for (int y = 0; y < height; ++y) {
       const int64_t row = static_cast<int64_t>(y) * width;
-      pass(src + row, mid + row, width, 1);
+      row_pass(src + row, mid + row, width);
     }
-    for (int x = 0; x < width; ++x) pass(mid + x, dst + x, height, width);
+    column_pass(mid, result.data() + c * plane);
   }
   return result;
 }

@@ -1,4 +1,4 @@
-// A Gaussian blur of planar float images: the "blurred copy of the photo" baseline of `eval`.
+// A Gaussian blur of planar float images (eval's blurred-photo baseline, unwrapping, fit normals).
 #pragma once
 
 #include <vector>

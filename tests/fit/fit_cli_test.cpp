@@ -210,12 +210,25 @@ TEST_F(FitCliTest, PseudoLabelFromFitLabelsRealSamples) {
   }
   EXPECT_GT(both, 0.9 * inside);
   EXPECT_GT(facing, 0.97 * fitted);
-  // The fitted normals are also the input prior of a network that takes one (docs/fit.md).
+  // The mesh's own normals are the input prior of a network that takes one (docs/fit.md), as at
+  // run time; the label normals are them smoothed (--smooth-normals), near them, and with
+  // --smooth-normals 0 the same.
+  ASSERT_EQ(run("pseudo-label --from fit --face-model " + model_ + " --directions 64 --smooth-normals 0 " +
+                    at("real/sample_00000000.exr") + " -o " + at("sharp"), at("log")), 0)
+      << read_text(at("log"));
+  const LayeredImage sharp = read_exr(at("sharp/sample_00000000.exr"), "facetool:");
+  const size_t plane = out.plane_size();
+  double moved = 0;
   for (const char* axis : {"X", "Y", "Z"}) {
     const int prior = out.find_channel(std::string("prior.") + axis), normal = out.find_channel(std::string("normal.") + axis);
     ASSERT_GE(prior, 0) << axis;
-    EXPECT_TRUE(std::equal(out.plane(prior), out.plane(prior) + out.plane_size(), out.plane(normal))) << axis;
+    EXPECT_TRUE(std::equal(out.plane(prior), out.plane(prior) + plane, sharp.plane(sharp.find_channel(std::string("prior.") + axis)))) << axis;
+    EXPECT_TRUE(std::equal(out.plane(prior), out.plane(prior) + plane, sharp.plane(sharp.find_channel(std::string("normal.") + axis)))) << axis;
+    for (size_t p = 0; p < plane; ++p) moved += mask[p] > 0.5f ? std::fabs(out.plane(normal)[p] - out.plane(prior)[p]) : 0.0;
   }
+  std::printf("label normals moved from the mesh's by %.4f (sum over X, Y, Z of the mean absolute change)\n", moved / fitted);
+  EXPECT_GT(moved / fitted, 1e-3) << "the label normals are not smoothed";
+  EXPECT_LT(moved / fitted, 0.15) << "the label normals moved too far from the mesh's (0.065 measured)";
   // Without landmarks (a plain crop) the fit has nothing to fit: a clear error.
   EXPECT_EQ(run("pseudo-label --from fit --face-model " + model_ + " " + at("photos/astronaut.png") + " -o " + at("x"), at("log")), 1);
   EXPECT_NE(read_text(at("log")).find("facetool:landmarks"), std::string::npos) << read_text(at("log"));

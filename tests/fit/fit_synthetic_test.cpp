@@ -19,6 +19,8 @@
 #include "libs/fit/fit_prior.h"
 #include "core/plugin/network_plugin.h"
 #include "libs/fit/fit_render.h"
+#include "libs/fit/normal_smoothing.h"
+#include "libs/fit/photo_fit.h"
 #include "libs/fit/albedo_unwrap.h"
 #include "libs/fit/fit_shading.h"
 #include "libs/synth/component_renderer.h"
@@ -110,6 +112,53 @@ TEST_F(FitSynthetic, RecoversPoseAndNormalsFromNoisyLandmarks) {
   }
   std::printf("worst pose error %.2f deg, mean normal error %.2f deg\n", worst_pose, mean_normal);
   EXPECT_LT(mean_normal, FIT_NORMAL_BOUND_DEG);
+}
+
+// The rendering's smoothing is smooth_normals on the mesh's own normals with a standard deviation
+// of the given fraction of the fitted outer eye corners' distance; depth and masks stay the mesh's.
+TEST_F(FitSynthetic, SmoothedNormalsAreTheMeshNormalsSmoothedByAFractionOfTheEyeDistance) {
+  const SyntheticFace face = make_synthetic_face(basis_->model(), 17, HeadPose{5, -5, 12});
+  const Outcome o = fit_and_score(face, add_landmark_noise(face.landmarks, 1.0, 17));
+  FitRenderSettings settings;
+  settings.visibility = false;
+  settings.normal_smoothing = 0.03;
+  const FitRendering smoothed = render_fit(basis_->model(), o.fit, nullptr, settings);
+  const FaceMesh mesh = fitted_mesh(basis_->model(), o.fit);
+  const Point2 a = o.fit.project(mesh.positions[o.fit.vertices[36]]), b = o.fit.project(mesh.positions[o.fit.vertices[45]]);
+  const double eyes = std::hypot(a.x - b.x, a.y - b.y);
+  EXPECT_NEAR(eyes, std::hypot(face.landmarks[36].x - face.landmarks[45].x, face.landmarks[36].y - face.landmarks[45].y),
+              0.05 * eyes) << "the fitted eye corners are not where the face's are";
+  std::vector<float> expected = o.rendering.normal;
+  smooth_normals(expected, o.rendering.head, o.fit.width, o.fit.height, 0.03 * eyes);
+  EXPECT_EQ(smoothed.normal, expected);
+  EXPECT_NE(smoothed.normal, o.rendering.normal);
+  EXPECT_EQ(smoothed.head, o.rendering.head);
+  EXPECT_EQ(smoothed.mask, o.rendering.mask);
+  EXPECT_EQ(smoothed.depth, o.rendering.depth);
+}
+
+// What the smoothing is for: where the landmarks are off by a few pixels, so are the fitted
+// features, and the smoothed normals lie closer to the truth on average (docs/fit.md, "Smoothed
+// normals"; measured there on 597 photo-textured renders with dlib's points).
+TEST_F(FitSynthetic, SmoothingLowersTheNormalErrorOfNoisyLandmarks) {
+  Random poses(23);
+  double sharp = 0, smooth = 0;
+  const int count = 8;
+  for (int k = 0; k < count; ++k) {
+    const SyntheticFace face = make_synthetic_face(basis_->model(), 300 + k,
+                                                   HeadPose{poses.uniform(-10, 10), poses.uniform(-10, 10), poses.uniform(-20, 20)});
+    const Outcome o = fit_and_score(face, add_landmark_noise(face.landmarks, FIT_SMOOTHING_NOISE_PX, 400 + k));
+    FitRenderSettings settings;
+    settings.visibility = false;
+    settings.normal_smoothing = PhotoFitOptions::kDefaultNormalSmoothing;
+    const FitRendering r = render_fit(basis_->model(), o.fit, nullptr, settings);
+    const double e = mean_normal_error_deg(face, r.normal, r.head, nullptr);
+    std::printf("face %d: normals %.2f deg, smoothed %.2f deg\n", k, o.normal_error_deg, e);
+    sharp += o.normal_error_deg / count;
+    smooth += e / count;
+  }
+  std::printf("mean: %.2f deg, smoothed %.2f deg\n", sharp, smooth);
+  EXPECT_LT(smooth, sharp - FIT_SMOOTHING_GAIN_DEG);
 }
 
 TEST_F(FitSynthetic, FaceTurnedTwentyFiveDegrees) {

@@ -244,7 +244,7 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
   std::vector<size_t> held_index;
   for (size_t i = 0; i < renders.size(); ++i)
     if (!is_train(i)) held.push_back(read_exr(renders[i].path)), held_index.push_back(i);
-  struct Variant { std::string name; const FitBasis* basis; FitSettings settings; };
+  struct Variant { std::string name; const FitBasis* basis; FitSettings settings; double smoothing = 0; };
   std::vector<Variant> variants;
   variants.push_back({"default", &original, FitSettings{}});
   variants.push_back({"calibrated vertices", &calibrated, FitSettings{}});
@@ -276,6 +276,8 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
     s.expression_prior = 5e-2;
     variants.push_back({"expression prior 0.05", &original, s});
   }
+  for (double smoothing : {0.01, 0.015, 0.02, 0.025, 0.03, 0.04})
+    variants.push_back({"smoothed normals " + std::to_string(smoothing), &original, FitSettings{}, smoothing});
   const char* only = std::getenv("CALIB_VARIANTS");
   const double bins[4] = {0, 10, 20, 31};
   for (const Variant& variant : variants) {
@@ -297,6 +299,7 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
       const FaceFit fit = fit_landmarks(*variant.basis, target, variant.settings);
       FitRenderSettings settings;
       settings.visibility = false;
+      settings.normal_smoothing = variant.smoothing;
       const FitRendering g = render_fit(*model, fit, nullptr, settings);
       const size_t plane = sample.plane_size();
       double sum = 0;

@@ -1,12 +1,16 @@
 // Parsing the landmark fit's options.
 #include "apps/facetool/fit/fit_options.h"
 
+#include <sstream>
+
 namespace po = boost::program_options;
 
 namespace facetool {
 
 void add_fit_options(po::options_description& options) {
   const FitSettings d;
+  std::ostringstream smoothing;  // shown as 0.025, not with the double's every digit
+  smoothing << PhotoFitOptions::kDefaultNormalSmoothing;
   options.add_options()
       ("camera", po::value<std::string>()->default_value("perspective")->value_name("perspective|orthographic"),
        "camera model of the fit: a pinhole with the field of view --fov, or scaled orthographic (docs/fit.md: measured choice)")
@@ -18,12 +22,15 @@ void add_fit_options(po::options_description& options) {
       ("identity-prior", po::value<double>()->default_value(d.identity_prior), "weight of the N(0, 1) prior on identity weights")
       ("expression-prior", po::value<double>()->default_value(d.expression_prior), "weight of the sparsity prior on expression weights")
       ("no-expressions", "fit identity and pose only (expression weights 0)")
+      ("smooth-normals", po::value<double>()->default_value(PhotoFitOptions::kDefaultNormalSmoothing, smoothing.str()),
+       "standard deviation of the Gaussian that smooths the fitted normals, as a fraction of the eye distance (0: the "
+       "mesh's own normals; docs/fit.md, \"Smoothed normals\")")
       ("directions", po::value<int>()->default_value(872), "visibility ray directions per pixel (the paper's 872)")
       ("no-visibility", "skip the visibility rays (visibility.exr is 0)");
 }
 
 std::vector<OptionRange> fit_option_ranges() {
-  return {{"fov", 1, 120}, {"jaw-weight", 0, 10}, {"identity-prior", 0, 1e6}, {"expression-prior", 0, 1e6}, {"directions", 1, 100000}};
+  return {{"fov", 1, 120}, {"jaw-weight", 0, 10}, {"identity-prior", 0, 1e6}, {"expression-prior", 0, 1e6}, {"smooth-normals", 0, 1}, {"directions", 1, 100000}};
 }
 
 PhotoFitOptions fit_options_from(const po::variables_map& values) {
@@ -41,6 +48,7 @@ PhotoFitOptions fit_options_from(const po::variables_map& values) {
   o.fit.identity_prior = values["identity-prior"].as<double>();
   o.fit.expression_prior = values["expression-prior"].as<double>();
   o.fit.fit_expressions = !values.count("no-expressions");
+  o.render.normal_smoothing = values["smooth-normals"].as<double>();
   o.direction_count = values["directions"].as<int>();
   o.render.visibility = !values.count("no-visibility");
   return o;
