@@ -94,9 +94,10 @@ TEST(CpuFused, ConvolutionWithEveryEpilogueMatchesThePlainReference) {
         if (variant == 3) fused.y2 = &y2;
         const Tensor y = ops::conv2d_fused(x, w, Conv2dParams{c.stride}, fused);
         EXPECT_TRUE(all_close(y.to_host(), expected, kAtol, kRtol)) << describe(c, a, variant);
-        if (variant == 3)
+        if (variant == 3) {
           EXPECT_TRUE(all_close(y2.to_host(), y2_expected.to_host(), kAtol, kRtol))
               << describe(c, a, variant) << " second output";
+        }
       }
     }
   }
