@@ -19,7 +19,9 @@ PyTorch runs with libjemalloc preloaded when it is installed (Debian: libjemallo
 allocator its training step pays page faults on every step (../shared/docs/performance-notes.md).
 PyTorch's OpenMP threads and ONNX Runtime's pool are told not to spin while they wait (the
 machines these figures come from are shared; spinning threads fight the other work for cores).
-facetool's pool always sleeps on a condition variable.
+facetool's pool checks for work for at most 50 microseconds before it sleeps on a condition
+variable (FACETOOL_SPIN_US; set it to 0 in this script's environment to time facetool sleeping at
+once, as the anchors do).
 """
 import argparse
 import json

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdlib>
 #include <exception>
@@ -16,6 +17,33 @@ namespace {
 
 thread_local int tls_slot = 0;
 thread_local bool tls_inside_parallel = false;
+
+// How long a thread that waits for the pool (a worker for the next job, the caller for the
+// workers to finish) keeps checking before it sleeps on a condition variable: a network's
+// forward pass at batch 1 runs about a hundred short jobs, microseconds apart, and a sleep and a
+// wake-up cost each of them a context switch and tens of microseconds of latency
+// (docs/backends.md, "Threads"). FACETOOL_SPIN_US (0 to 100000; 0: sleep at once), default 50.
+std::chrono::microseconds configured_spin() {
+  if (const char* env = std::getenv("FACETOOL_SPIN_US")) {
+    const long us = std::atol(env);
+    if (us >= 0) return std::chrono::microseconds(std::min(us, 100000L));
+  }
+  return std::chrono::microseconds(50);
+}
+
+// Checks `ready` until it holds or `spin` has passed; true if it held.
+template <typename Ready>
+bool spin_until(Ready ready, std::chrono::microseconds spin) {
+  if (spin.count() == 0) return ready();
+  const auto deadline = std::chrono::steady_clock::now() + spin;
+  for (int i = 0;; ++i) {
+    if (ready()) return true;
+    if ((i & 63) == 63 && std::chrono::steady_clock::now() >= deadline) return false;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+}
 
 int configured_thread_count() {
   if (const char* env = std::getenv("FACETOOL_NUM_THREADS")) {
@@ -59,7 +87,7 @@ class ThreadPool {
   // A thread the system cannot give (ulimit -v, a process limit) is done without: the pool runs
   // with the threads it got instead of ending the process (a joinable thread left in workers_ by
   // an exception would call std::terminate).
-  explicit ThreadPool(int threads) : threads_(1) {
+  explicit ThreadPool(int threads) : threads_(1), spin_(configured_spin()) {
     for (int i = 1; i < threads; ++i) {
       try {
         workers_.emplace_back([this, i] { worker_loop(i); });
@@ -91,6 +119,7 @@ class ThreadPool {
     tls_inside_parallel = true;
     job.run_chunks();
     tls_inside_parallel = false;
+    spin_until([&] { return job.done.load() == job.chunks && busy_workers_.load() == 0; }, spin_);
     std::unique_lock<std::mutex> lock(mutex_);
     finished_.wait(lock, [&] { return job.done.load() == job.chunks && busy_workers_ == 0; });
     job_ = nullptr;
@@ -103,6 +132,11 @@ class ThreadPool {
     uint64_t seen = 0;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
+      if (!stopping_ && generation_ == seen) {  // the next job usually comes within microseconds
+        lock.unlock();
+        spin_until([&] { return generation_.load() != seen || stopping_.load(); }, spin_);
+        lock.lock();
+      }
       wake_.wait(lock, [&] { return stopping_ || (job_ != nullptr && generation_ != seen); });
       if (stopping_) return;
       seen = generation_;
@@ -117,15 +151,17 @@ class ThreadPool {
   }
 
   int threads_;
+  const std::chrono::microseconds spin_;
   std::vector<std::thread> workers_;
   std::mutex run_mutex_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable finished_;
+  // Written under mutex_; atomic so that the spinning threads may read them without it.
   Job* job_ = nullptr;
-  uint64_t generation_ = 0;
-  int busy_workers_ = 0;
-  bool stopping_ = false;
+  std::atomic<uint64_t> generation_{0};
+  std::atomic<int> busy_workers_{0};
+  std::atomic<bool> stopping_{false};
 };
 
 ThreadPool& pool() {

@@ -1,0 +1,86 @@
+// The thread pool under parallel_for: every index of every call run exactly once, by more than
+// one thread, over many short calls back to back and calls far apart (workers that spin, then
+// sleep, and are woken); the first exception reaches the caller; nested calls run inline. CTest
+// runs it again with FACETOOL_SPIN_US=0 (sleep at once) and with a spin longer than any gap.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "core/util/parallel_for.h"
+
+namespace facetool {
+namespace {
+
+// `calls` parallel_for calls of sizes 2..201, pausing `gap` between calls, each chunk busy for
+// `work` (so that a worker woken from its sleep still finds chunks left); every index's counter
+// must end at the number of calls that covered it.
+void run_calls(int calls, std::chrono::microseconds gap, std::chrono::microseconds work) {
+  std::vector<std::atomic<int>> counts(201);
+  std::vector<int> expected(201, 0);
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  for (int k = 0; k < calls; ++k) {
+    const int64_t n = 2 + (k * 37) % 200;
+    for (int64_t i = 0; i < n; ++i) ++expected[i];
+    parallel_for(n, 1, [&](int64_t begin, int64_t end) {
+      for (int64_t i = begin; i < end; ++i) ++counts[i];
+      const auto until = std::chrono::steady_clock::now() + work;
+      while (std::chrono::steady_clock::now() < until) {
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      threads.insert(std::this_thread::get_id());
+    });
+    if (gap.count()) std::this_thread::sleep_for(gap);
+  }
+  for (size_t i = 0; i < counts.size(); ++i) ASSERT_EQ(counts[i].load(), expected[i]) << "index " << i;
+  if (parallel_thread_count() > 1) {
+    EXPECT_GT(threads.size(), 1u) << "no worker ever took a chunk";
+  }
+}
+
+TEST(ParallelFor, ManyShortCallsBackToBackRunEveryIndexOnce) {
+  run_calls(20000, std::chrono::microseconds(0), std::chrono::microseconds(0));
+}
+
+TEST(ParallelFor, CallsFarApartRunEveryIndexOnce) {
+  run_calls(100, std::chrono::microseconds(300), std::chrono::microseconds(200));
+}
+
+TEST(ParallelFor, TheFirstExceptionReachesTheCallerAfterEveryChunk) {
+  std::atomic<int> ran{0};
+  EXPECT_THROW(parallel_for(64, 1,
+                            [&](int64_t begin, int64_t end) {
+                              ran += static_cast<int>(end - begin);
+                              if (begin == 0) throw std::runtime_error("chunk 0");
+                            }),
+               std::runtime_error);
+  EXPECT_EQ(ran.load(), 64);
+  // The pool still works afterwards.
+  std::atomic<int> sum{0};
+  parallel_for(100, 1, [&](int64_t begin, int64_t end) { sum += static_cast<int>(end - begin); });
+  EXPECT_EQ(sum.load(), 100);
+}
+
+TEST(ParallelFor, NestedCallsRunInlineOnTheCallingThread) {
+  std::atomic<int> mismatched{0}, total{0};
+  parallel_for(8, 1, [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      const std::thread::id outer = std::this_thread::get_id();
+      parallel_for(16, 1, [&](int64_t b, int64_t e) {
+        if (std::this_thread::get_id() != outer) ++mismatched;
+        total += static_cast<int>(e - b);
+      });
+    }
+  });
+  EXPECT_EQ(mismatched.load(), 0);
+  EXPECT_EQ(total.load(), 8 * 16);
+}
+
+}  // namespace
+}  // namespace facetool
