@@ -283,6 +283,8 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
   for (const Variant& variant : variants) {
     if (only && std::string(only).find(variant.name.substr(0, 6)) == std::string::npos) continue;
     double sums[3][3] = {}, signed_error[3] = {};
+    double mean_difference[3] = {0, 0, 0};  // fitted minus true normal, summed over the pixels
+    int64_t difference_pixels = 0;
     int counts[3] = {};
     for (size_t h = 0; h < held.size(); ++h) {
       const Render& r = renders[held_index[h]];
@@ -309,6 +311,8 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
         ++inside;
         if (!g.head[p]) continue;
         const double dot = g.normal[p] * normal[0][p] + g.normal[plane + p] * normal[1][p] + g.normal[2 * plane + p] * normal[2][p];
+        for (int c = 0; c < 3; ++c) mean_difference[c] += g.normal[c * plane + p] - normal[c][p];
+        ++difference_pixels;
         sum += std::acos(std::clamp(dot, -1.0, 1.0)) * 180 / kPi;
         ++n;
       }
@@ -329,8 +333,12 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
                   sums[b][1] / std::max(counts[b], 1), 100 * sums[b][2] / std::max(counts[b], 1));
       all_normal += sums[b][0], all_pose += sums[b][1];
     }
-    std::printf("  all: normal %.2f pose %.2f (|roll| %.2f |pitch| %.2f |yaw| %.2f; %d)\n", all_normal / total,
-                all_pose / total, signed_error[0] / total, signed_error[1] / total, signed_error[2] / total, total);
+    std::printf("  all: normal %.2f pose %.2f (|roll| %.2f |pitch| %.2f |yaw| %.2f; %d); mean fitted - true normal "
+                "(%.4f, %.4f, %.4f)\n",
+                all_normal / total, all_pose / total, signed_error[0] / total, signed_error[1] / total,
+                signed_error[2] / total, total, mean_difference[0] / std::max<int64_t>(difference_pixels, 1),
+                mean_difference[1] / std::max<int64_t>(difference_pixels, 1),
+                mean_difference[2] / std::max<int64_t>(difference_pixels, 1));
     std::fflush(stdout);
   }
 }
