@@ -6,8 +6,27 @@
 #include <cstdint>
 
 #include "core/util/error.h"
+#include "core/util/vector_clones.h"
 
 namespace facetool {
+
+namespace {
+
+// sums[i] += weight * in[i] for i in [0, n): one kernel tap over a run of samples.
+FACETOOL_VECTOR_CLONES
+void add_tap(const float* __restrict in, float weight, int64_t n, float* __restrict sums) {
+  FACETOOL_NO_ALIAS_LOOP
+  for (int64_t i = 0; i < n; ++i) sums[i] += weight * in[i];
+}
+
+// out[i] = sums[i] * scale[i].
+FACETOOL_VECTOR_CLONES
+void scale_sums(const float* __restrict sums, const float* __restrict scale, int64_t n, float* __restrict out) {
+  FACETOOL_NO_ALIAS_LOOP
+  for (int64_t i = 0; i < n; ++i) out[i] = sums[i] * scale[i];
+}
+
+}  // namespace
 
 std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, int width,
                                  int height, double sigma) {
@@ -23,57 +42,44 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
   std::vector<double> kernel(2 * radius + 1);
   for (int k = -radius; k <= radius; ++k)
     kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
-
-  // Rows: each output the kernel's weighted mean of the samples inside the row; the interior,
-  // where the whole kernel fits, without the bounds checks and with the kernel's full sum.
-  double kernel_sum = 0;
-  for (double k : kernel) kernel_sum += k;
-  auto row_pass = [&](const float* in, float* out, int count) {
+  std::vector<float> taps(kernel.begin(), kernel.end());
+  // 1 / (the kernel's weights that fall inside a line of `count` samples), per position.
+  auto inverse_weights = [&](int count) {
+    std::vector<float> inverse(static_cast<size_t>(count));
     for (int i = 0; i < count; ++i) {
-      double sum = 0, weight = 0;
-      if (i >= radius && i + radius < count) {
-        const float* window = in + i - radius;
-        for (int k = 0; k <= 2 * radius; ++k) sum += kernel[k] * window[k];
-        weight = kernel_sum;
-      } else {
-        for (int k = -radius; k <= radius; ++k) {
-          const int j = i + k;
-          if (j < 0 || j >= count) continue;
-          sum += kernel[k + radius] * in[j];
-          weight += kernel[k + radius];
-        }
-      }
-      out[i] = static_cast<float>(sum / weight);
-    }
-  };
-  // Columns: a whole output row at a time, from the input rows the kernel reaches (contiguous
-  // loads; the same sums as one column at a time).
-  std::vector<double> sums(static_cast<size_t>(width));
-  auto column_pass = [&](const float* in, float* out) {
-    for (int y = 0; y < height; ++y) {
-      std::fill(sums.begin(), sums.end(), 0.0);
       double weight = 0;
-      for (int k = -radius; k <= radius; ++k) {
-        const int j = y + k;
-        if (j < 0 || j >= height) continue;
-        const double g = kernel[k + radius];
-        const float* row = in + static_cast<int64_t>(j) * width;
-        for (int x = 0; x < width; ++x) sums[x] += g * row[x];
-        weight += g;
-      }
-      float* target = out + static_cast<int64_t>(y) * width;
-      for (int x = 0; x < width; ++x) target[x] = static_cast<float>(sums[x] / weight);
+      for (int k = std::max(-radius, -i); k <= std::min(radius, count - 1 - i); ++k) weight += kernel[k + radius];
+      inverse[i] = static_cast<float>(1.0 / weight);
     }
+    return inverse;
   };
-  std::vector<float> rows(image.size()), result(image.size());
+  const std::vector<float> row_scale = inverse_weights(width), column_weights = inverse_weights(height);
+
+  // Both passes add one tap at a time over a whole run of samples (contiguous, so the loops
+  // vectorise): along a row, tap k adds in[x + k] to the sum of x for every x whose x + k is
+  // inside; down the columns, tap k adds row y + k to row y's sums.
+  std::vector<float> rows(image.size()), result(image.size()), sums(static_cast<size_t>(width));
+  std::vector<float> column_scale(static_cast<size_t>(width));
   for (int c = 0; c < channels; ++c) {
     const float* src = image.data() + c * plane;
     float* mid = rows.data() + c * plane;
+    float* dst = result.data() + c * plane;
     for (int y = 0; y < height; ++y) {
-      const int64_t row = static_cast<int64_t>(y) * width;
-      row_pass(src + row, mid + row, width);
+      const float* in = src + static_cast<int64_t>(y) * width;
+      std::fill(sums.begin(), sums.end(), 0.0f);
+      for (int k = -radius; k <= radius; ++k) {
+        const int lo = std::max(0, -k), hi = std::min(width, width - k);
+        if (lo < hi) add_tap(in + lo + k, taps[k + radius], hi - lo, sums.data() + lo);
+      }
+      scale_sums(sums.data(), row_scale.data(), width, mid + static_cast<int64_t>(y) * width);
     }
-    column_pass(mid, result.data() + c * plane);
+    for (int y = 0; y < height; ++y) {
+      std::fill(sums.begin(), sums.end(), 0.0f);
+      for (int k = std::max(-radius, -y); k <= std::min(radius, height - 1 - y); ++k)
+        add_tap(mid + static_cast<int64_t>(y + k) * width, taps[k + radius], width, sums.data());
+      std::fill(column_scale.begin(), column_scale.end(), column_weights[y]);
+      scale_sums(sums.data(), column_scale.data(), width, dst + static_cast<int64_t>(y) * width);
+    }
   }
   return result;
 }
