@@ -278,6 +278,12 @@ TEST(LandmarkCalibration, DISABLED_Measure) {
   }
   for (double smoothing : {0.01, 0.015, 0.02, 0.025, 0.03, 0.04})
     variants.push_back({"smoothed normals " + std::to_string(smoothing), &original, FitSettings{}, smoothing});
+  {
+    FitSettings s;
+    s.jaw = JawHandling::kContour;
+    variants.push_back({"contour jaw", &original, s});
+    variants.push_back({"contour jaw, smoothed 0.025", &original, s, 0.025});
+  }
   const char* only = std::getenv("CALIB_VARIANTS");
   const double bins[4] = {0, 10, 20, 31};
   for (const Variant& variant : variants) {
