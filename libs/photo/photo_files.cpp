@@ -23,6 +23,8 @@
 #include "libs/face/rgba_png.h"
 #include "libs/fit/photo_fit.h"
 #include "libs/io/exr_io.h"
+#include "libs/io/image_io.h"
+#include "libs/io/png_encoding.h"
 #include "libs/photo/decomposition_files.h"
 #include "core/util/atomic_file.h"
 #include "core/util/background_worker.h"
@@ -31,41 +33,50 @@
 #include "core/util/memory_budget.h"
 #include "core/util/parallel_for.h"
 #include "core/util/progress_bar.h"
+#include "core/util/stage_timer.h"
 
 namespace fs = std::filesystem;
 
 namespace facetool {
 namespace {
 
-// One photo-level PNG's bytes: the premultiplied layer over the photo (`input`, linear RGB), or
-// un-premultiplied with alpha. A linear layer (encode_srgb) is composited in linear values, a
-// data layer over the photo's sRGB encoding.
+// The photo's sRGB bytes, linear_to_srgb8 of every value: what each layer picture shows where
+// only the photo shows (alpha 0, layer 0), made once for the five of them.
+std::vector<uint8_t> photo_srgb8(const RgbImage& input) {
+  std::vector<uint8_t> bytes(input.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = linear_to_srgb8(input.pixels[i]);
+  return bytes;
+}
+
+// One photo-level PNG's bytes: the premultiplied layer over the photo (`input`, linear RGB; its
+// sRGB bytes `input_srgb8`), or un-premultiplied with alpha. A linear layer (encode_srgb) is
+// composited in linear values, a data layer over the photo's sRGB encoding. Where only the photo
+// shows (alpha 0, layer 0) both give the photo's own sRGB byte (a data layer's linear_to_srgb(x)
+// rounds to linear_to_srgb8(x)), taken from input_srgb8.
 std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
-                                            const std::vector<float>& alpha, bool transparent, bool encode_srgb) {
+                                            const std::vector<uint8_t>& input_srgb8, const std::vector<float>& alpha,
+                                            bool transparent, bool encode_srgb) {
   const size_t plane = alpha.size();
   if (transparent) {
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] = alpha[p] > 0 ? layer.pixels[p * 3 + c] / alpha[p] : 0.0f;
     return encode_rgba_png(path, layer, alpha, encode_srgb);
   }
-  if (encode_srgb) {  // a linear layer over the linear photo, sRGB-encoded as one
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c) layer.pixels[p * 3 + c] += (1 - alpha[p]) * input.pixels[p * 3 + c];
-    return encode_png(path, layer, true);
-  }
-  // A data layer (normals, visibility: written as they are) over the photo sRGB-encoded. Where
-  // only the photo shows (alpha 0, layer 0), its byte comes from linear_to_srgb8, the same byte
-  // as writing linear_to_srgb(x) (255 b / 255 rounds back to b) without the power function.
-  for (size_t p = 0; p < plane; ++p)
-    for (int c = 0; c < 3; ++c) {
-      float& v = layer.pixels[p * 3 + c];
-      const float x = input.pixels[p * 3 + c];
-      if (alpha[p] == 0 && v == 0)
-        v = static_cast<float>(linear_to_srgb8(x)) / 255.0f;
+  StageTimer timer("encode");  // compositing and the 8-bit conversion; encode_png8 compresses
+  std::vector<uint8_t> bytes(plane * 3);
+  for (size_t p = 0; p < plane; ++p) {
+    const float a = alpha[p];
+    for (size_t i = p * 3; i < p * 3 + 3; ++i) {
+      const float v = layer.pixels[i], x = input.pixels[i];
+      if (a == 0 && v == 0)
+        bytes[i] = input_srgb8[i];
+      else if (encode_srgb)
+        bytes[i] = linear_to_srgb8(v + (1 - a) * x);
       else
-        v += (1 - alpha[p]) * linear_to_srgb(x);
+        bytes[i] = unit_to_byte(v + (1 - a) * linear_to_srgb(x));
     }
-  return encode_png(path, layer, false);
+  }
+  return encode_png8(path, layer.width, layer.height, 3, bytes.data());
 }
 
 // A file to encode: its path and the function that makes its bytes.
@@ -158,6 +169,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   // The photo-level pictures, each made and encoded by a job (the largest first), then written.
   const RgbImage& input = photo.photo;
   const std::vector<float>& alpha = layers.alpha;
+  const std::vector<uint8_t> input_srgb8 = options.transparent ? std::vector<uint8_t>() : photo_srgb8(input);
   const bool transparent = options.transparent;
   std::vector<EncodeJob> jobs;
   jobs.push_back({at("photo.exr"), [&] {
@@ -183,14 +195,15 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
       {"albedo.png", &layers.albedo}, {"shading.png", &layers.shading}, {"reconstruction.png", &layers.reconstruction}};
   for (const auto& [name, planar] : colour_layers)
     jobs.push_back({at(name), [&, name = name, planar = planar] {
-      return encode_layer_png(at(name), rgb_from_planar(planar->data(), w, h), input, alpha, transparent, true);
+      return encode_layer_png(at(name), rgb_from_planar(planar->data(), w, h), input, input_srgb8, alpha, transparent,
+                              true);
     }});
   jobs.push_back({at("normal.png"), [&] {
     RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h);
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
         normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
-    return encode_layer_png(at("normal.png"), std::move(normal_png), input, alpha, transparent, false);
+    return encode_layer_png(at("normal.png"), std::move(normal_png), input, input_srgb8, alpha, transparent, false);
   }});
   jobs.push_back({at("visibility.png"), [&] {
     RgbImage visibility_png;
@@ -200,7 +213,8 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
     for (size_t p = 0; p < plane; ++p)
       for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, alpha, transparent, false);
+    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, input_srgb8, alpha, transparent,
+                            false);
   }});
   if (options.contact_sheet)
     jobs.push_back({at("contact_sheet.png"), [&] {
