@@ -40,11 +40,13 @@ namespace fs = std::filesystem;
 namespace facetool {
 namespace {
 
-// The photo's sRGB bytes, linear_to_srgb8 of every value: what each layer picture shows where
-// only the photo shows (alpha 0, layer 0), made once for the five of them.
-std::vector<uint8_t> photo_srgb8(const RgbImage& input) {
-  std::vector<uint8_t> bytes(input.pixels.size());
-  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = linear_to_srgb8(input.pixels[i]);
+// The photo's sRGB bytes (linear_to_srgb8) where alpha is 0: what each layer picture shows where
+// only the photo shows, made once for the five of them; 0 under the faces (not read there).
+std::vector<uint8_t> photo_srgb8(const RgbImage& input, const std::vector<float>& alpha) {
+  std::vector<uint8_t> bytes(input.pixels.size(), 0);
+  for (size_t p = 0; p < alpha.size(); ++p)
+    if (alpha[p] == 0)
+      for (size_t i = p * 3; i < p * 3 + 3; ++i) bytes[i] = linear_to_srgb8(input.pixels[i]);
   return bytes;
 }
 
@@ -52,7 +54,7 @@ std::vector<uint8_t> photo_srgb8(const RgbImage& input) {
 // sRGB bytes `input_srgb8`), or un-premultiplied with alpha. A linear layer (encode_srgb) is
 // composited in linear values, a data layer over the photo's sRGB encoding. Where only the photo
 // shows (alpha 0, layer 0) both give the photo's own sRGB byte (a data layer's linear_to_srgb(x)
-// rounds to linear_to_srgb8(x)), taken from input_srgb8.
+// rounds to linear_to_srgb8(x)), taken from input_srgb8 (photo_srgb8: set where alpha is 0).
 std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage layer, const RgbImage& input,
                                             const std::vector<uint8_t>& input_srgb8, const std::vector<float>& alpha,
                                             bool transparent, bool encode_srgb) {
@@ -169,7 +171,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   // The photo-level pictures, each made and encoded by a job (the largest first), then written.
   const RgbImage& input = photo.photo;
   const std::vector<float>& alpha = layers.alpha;
-  const std::vector<uint8_t> input_srgb8 = options.transparent ? std::vector<uint8_t>() : photo_srgb8(input);
+  const std::vector<uint8_t> input_srgb8 = options.transparent ? std::vector<uint8_t>() : photo_srgb8(input, alpha);
   const bool transparent = options.transparent;
   std::vector<EncodeJob> jobs;
   jobs.push_back({at("photo.exr"), [&] {
