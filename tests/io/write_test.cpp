@@ -1,6 +1,9 @@
 // Atomic writes: nothing under a final name changes unless every file was written completely;
-// the encoded PNG and EXR bytes read back (EXR channels stored as half within half precision).
+// the encoded PNG and EXR bytes read back (EXR channels stored as half within half precision, with
+// Imath::half's rounding bit for bit).
 #include <gtest/gtest.h>
+
+#include <Imath/half.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -182,6 +185,39 @@ TEST_F(AtomicWrite, ExrHalfChannelsReadBackWithinHalfPrecisionAndFloatChannelsEx
     }
   channels[2].data = nullptr;  // a channel without pixels
   EXPECT_THROW(encode_exr(file("bad.exr"), 37, 23, channels, {}), Error);
+}
+
+// A half channel holds exactly Imath::half's rounding of each float (round to nearest, ties to
+// even), whichever path converts it: ties, subnormals, underflow to zero, overflow to infinity,
+// negative zero, and random values over the whole exponent range, read from a plane and from an
+// interleaved copy.
+TEST_F(AtomicWrite, ExrHalfChannelsHoldImathHalfRounding) {
+  const int w = 61, h = 37;
+  std::vector<float> values = {1.0f + 0x1p-11f, 1.0f + 3 * 0x1p-11f, -(1.0f + 0x1p-11f), 0x1p-20f, 1.5f * 0x1p-24f,
+                               0x1p-25f, 0x1p-26f, 65504.0f, 65519.0f, 65520.0f, 70000.0f, -1e9f, -0.0f, 0.0f,
+                               2048.0f + 1.0f, 2048.0f + 3.0f, 6.1035156e-05f, 6.0975552e-05f};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> mantissa(1.0f, 2.0f);
+  std::uniform_int_distribution<int> exponent(-30, 18);
+  while (values.size() < static_cast<size_t>(w * h))
+    values.push_back((rng() % 2 ? -1.0f : 1.0f) * std::ldexp(mantissa(rng), exponent(rng)));
+  std::vector<float> interleaved(values.size() * 3, 0.0f);
+  for (size_t p = 0; p < values.size(); ++p) interleaved[p * 3 + 1] = values[p];
+  const std::vector<ExrChannel> channels = {{"plane", values.data(), 1, true}, {"strided", interleaved.data() + 1, 3, true}};
+  const std::vector<unsigned char> bytes = encode_exr(file("halves.exr"), w, h, channels, {});
+  write_file_atomically(file("halves.exr"), bytes.data(), bytes.size());
+  const LayeredImage back = read_exr(file("halves.exr"), "facetool:");
+  ASSERT_EQ(back.channel_count(), 2);
+  int differences = 0;
+  for (int c = 0; c < 2; ++c)
+    for (size_t p = 0; p < values.size(); ++p) {
+      // Half bits on both sides (the value read back is a half, so converting it is exact).
+      const unsigned short want = Imath::half(values[p]).bits(), got = Imath::half(back.plane(c)[p]).bits();
+      if (want != got && ++differences <= 5)
+        ADD_FAILURE() << "channel " << c << " value " << values[p] << ": half bits " << got << ", Imath::half gives "
+                      << want;
+    }
+  EXPECT_EQ(differences, 0);
 }
 
 TEST_F(AtomicWrite, LightJsonKeysAreInChannelOrder) {
