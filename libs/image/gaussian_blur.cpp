@@ -53,13 +53,12 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
     }
     return inverse;
   };
-  const std::vector<float> row_scale = inverse_weights(width), column_weights = inverse_weights(height);
+  const std::vector<float> row_scale = inverse_weights(width), column_scale = inverse_weights(height);
 
   // Both passes add one tap at a time over a whole run of samples (contiguous, so the loops
   // vectorise): along a row, tap k adds in[x + k] to the sum of x for every x whose x + k is
   // inside; down the columns, tap k adds row y + k to row y's sums.
   std::vector<float> rows(image.size()), result(image.size()), sums(static_cast<size_t>(width));
-  std::vector<float> column_scale(static_cast<size_t>(width));
   for (int c = 0; c < channels; ++c) {
     const float* src = image.data() + c * plane;
     float* mid = rows.data() + c * plane;
@@ -77,8 +76,8 @@ std::vector<float> gaussian_blur(const std::vector<float>& image, int channels, 
       std::fill(sums.begin(), sums.end(), 0.0f);
       for (int k = std::max(-radius, -y); k <= std::min(radius, height - 1 - y); ++k)
         add_tap(mid + static_cast<int64_t>(y + k) * width, taps[k + radius], width, sums.data());
-      std::fill(column_scale.begin(), column_scale.end(), column_weights[y]);
-      scale_sums(sums.data(), column_scale.data(), width, dst + static_cast<int64_t>(y) * width);
+      float* target = dst + static_cast<int64_t>(y) * width;
+      for (int x = 0; x < width; ++x) target[x] = sums[x] * column_scale[y];
     }
   }
   return result;
