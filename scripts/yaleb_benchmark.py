@@ -4,7 +4,8 @@
     /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
       ps                                   reference normals, albedo, reliability masks
       infer  [--facetool BIN] [--model W --name NAME]   a model (as given, padded, --aligned --stretch)
-      fit    --fit-bin BIN                 `BIN fit` on the evaluation photos
+      fit    --fit-bin BIN                 `BIN fit` on the evaluation photos (each alone, padded,
+                                           and each subject's as one still head)
       relight [--model W --name NAME]      frontal photos relit to the +-25 degree lights: PSNR
       score  [--pred NAME=DIR ...] [--markdown FILE]
       run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
@@ -672,6 +673,18 @@ def command_fit(args):
     print(f"{' '.join(command[1:])} on {len(photos)} photos -> {out}", flush=True)
     run_facetool([*command, *[p for _, _, p in photos], "-o", out], out + ".log")
     run_padded(args, photos, command, "normal.exr", os.path.join(args.cache, "pred", "fit-padded"))
+    # Each subject's five photos as one still head (`fit --still-head`): the head does not move
+    # between the strobes, so one pose, identity and expression fit all five photos' landmarks.
+    # This has what the template has (landmarks from several photos of the head); the fit above
+    # has one photo's.
+    out = os.path.join(args.cache, "pred", "fit-still-head")
+    make_clean(out)
+    subjects = sorted({s for s, _, _ in photos})
+    print(f"{' '.join(command[1:])} --still-head on each subject's {len(photos) // len(subjects)} photos -> {out}",
+          flush=True)
+    for s in subjects:
+        run_facetool([*command, "--still-head", *[p for t, _, p in photos if t == s], "-o", out],
+                     f"{out}-{s}.log")
 
 
 # ------------------------------------------------------------------------------ the template

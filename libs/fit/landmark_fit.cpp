@@ -336,7 +336,7 @@ double rotation_difference_deg(const HeadPose& a, const HeadPose& b) {
 }
 
 std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<LandmarkTarget>& targets,
-                                   const FitSettings& settings, bool shared_identity) {
+                                   const FitSettings& settings, SharedFace shared_face) {
   const double start = thread_cpu_seconds();
   check(!targets.empty(), "fit_landmarks: no faces");
   check(settings.landmark_weights.empty() || settings.landmark_weights.size() == static_cast<size_t>(kLandmarkCount),
@@ -346,8 +346,14 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
   const size_t n = targets.size();
   std::vector<FaceFit> fits(n);
   std::vector<double> shared(k, 0.0);
+  const bool shared_identity = shared_face != SharedFace::kNothing, still = shared_face == SharedFace::kHead;
+  // A block shared by all targets: its prior counts once per target (see the header).
+  const double prior_scale = shared_identity ? static_cast<double>(n) : 1.0;
   for (size_t f = 0; f < n; ++f) {
     check(targets[f].width > 0 && targets[f].height > 0, "fit_landmarks: face ", f, " has no photo size");
+    check(!still || (targets[f].width == targets[0].width && targets[f].height == targets[0].height),
+          "fit_landmarks: one still head needs photos of one size; face ", f, " is ", targets[f].width, "x",
+          targets[f].height, ", face 0 ", targets[0].width, "x", targets[0].height);
     for (const Point2& p : targets[f].landmarks)
       check(std::isfinite(p.x) && std::isfinite(p.y), "fit_landmarks: face ", f, " has a non-finite landmark");
     initialise(basis, targets[f], settings, fits[f]);
@@ -370,6 +376,9 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
     ceres::Problem problem(problem_options);
     for (size_t f = 0; f < n; ++f) {
       FaceFit& fit = fits[f];
+      // One still head: every target's residuals act on face 0's pose and expression.
+      FaceFit& head = still ? fits[0] : fit;
+      const bool owner = !still || f == 0;  // adds the priors and bounds of `head`
       double* identity = shared_identity ? shared.data() : fit.identity.data();
       double mx, my, s;
       spread(targets[f].landmarks, mx, my, s);
@@ -380,24 +389,25 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
             (jaw && settings.jaw == JawHandling::kDownWeighted ? settings.jaw_weight : 1.0) *
             (settings.landmark_weights.empty() ? 1.0 : settings.landmark_weights[i]) / s;
         auto* cost = new LandmarkCost(basis.row(fit.vertices[i]), basis.row_stride(), k, e, targets[f].landmarks[i], weight, in);
-        std::vector<double*> blocks = {fit.rotation, fit.translation, identity};
-        if (e > 0) blocks.push_back(fit.expression.data());
+        std::vector<double*> blocks = {head.rotation, head.translation, identity};
+        if (e > 0) blocks.push_back(head.expression.data());
         problem.AddResidualBlock(cost, new ceres::CauchyLoss(settings.robust_scale), blocks);
       }
-      if (e > 0) {
+      if (e > 0 && owner) {
         if (fixed_expression) {
-          problem.SetParameterBlockConstant(fit.expression.data());
+          problem.SetParameterBlockConstant(head.expression.data());
         } else {
-          problem.AddResidualBlock(new SmoothL1Prior(e, settings.expression_prior, settings.expression_smoothness),
-                                   nullptr, fit.expression.data());
+          const double weight = settings.expression_prior * (still ? prior_scale : 1.0);
+          problem.AddResidualBlock(new SmoothL1Prior(e, weight, settings.expression_smoothness), nullptr,
+                                   head.expression.data());
           for (int i = 0; i < e; ++i) {
-            problem.SetParameterLowerBound(fit.expression.data(), i, 0.0);
-            problem.SetParameterUpperBound(fit.expression.data(), i, 1.0);
+            problem.SetParameterLowerBound(head.expression.data(), i, 0.0);
+            problem.SetParameterUpperBound(head.expression.data(), i, 1.0);
           }
         }
       }
-      if (fit.camera == FitCamera::kScaledOrthographic)
-        problem.SetParameterLowerBound(fit.translation, 2, 1e-6);
+      if (owner && head.camera == FitCamera::kScaledOrthographic)
+        problem.SetParameterLowerBound(head.translation, 2, 1e-6);
       if (!shared_identity) {
         if (rigid) problem.SetParameterBlockConstant(identity);
         else problem.AddResidualBlock(new RidgePrior(k, settings.identity_prior), nullptr, identity);
@@ -405,7 +415,7 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
     }
     if (shared_identity) {
       if (rigid) problem.SetParameterBlockConstant(shared.data());
-      else problem.AddResidualBlock(new RidgePrior(k, settings.identity_prior), nullptr, shared.data());
+      else problem.AddResidualBlock(new RidgePrior(k, settings.identity_prior * prior_scale), nullptr, shared.data());
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
@@ -420,6 +430,11 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
     for (FaceFit& fit : fits) {
       fit.iterations += static_cast<int>(summary.iterations.size());
       if (shared_identity) fit.identity = shared;
+      if (still && &fit != &fits[0]) {
+        std::copy(fits[0].rotation, fits[0].rotation + 3, fit.rotation);
+        std::copy(fits[0].translation, fits[0].translation + 3, fit.translation);
+        fit.expression = fits[0].expression;
+      }
     }
   }
   const double seconds = (thread_cpu_seconds() - start) / static_cast<double>(n);
@@ -439,7 +454,7 @@ std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<Land
 }
 
 FaceFit fit_landmarks(const FitBasis& basis, const LandmarkTarget& target, const FitSettings& settings) {
-  return fit_landmarks(basis, std::vector<LandmarkTarget>{target}, settings, false)[0];
+  return fit_landmarks(basis, std::vector<LandmarkTarget>{target}, settings, SharedFace::kNothing)[0];
 }
 
 }  // namespace facetool

@@ -73,10 +73,21 @@ struct FaceFit {
   HeadPose pose() const;
 };
 
-// Fits each target. With `shared_identity`, all targets are one person: one identity vector,
-// per-target camera, pose and expression (`facetool fit --same-person`).
+// What the targets of one fit_landmarks call have in common.
+enum class SharedFace {
+  kNothing,   // separate faces: each its own fit
+  kIdentity,  // one person: one identity vector; camera, pose and expression per target
+              // (`facetool fit --same-person`)
+  kHead,      // one still head seen by one camera (a light stage, a tripod burst): one identity,
+              // pose and expression; the targets must share the photo size (`fit --still-head`)
+};
+
+// Fits each target. A parameter block the targets share gets its prior weighted by their
+// number, so that n photos of one face do not loosen it: dlib's errors and the model's misfit
+// repeat from photo to photo of one face, and a prior loosened n times fits them (measured on
+// Yale B, docs/benchmarks.md).
 std::vector<FaceFit> fit_landmarks(const FitBasis& basis, const std::vector<LandmarkTarget>& targets,
-                                   const FitSettings& settings, bool shared_identity = false);
+                                   const FitSettings& settings, SharedFace shared = SharedFace::kNothing);
 FaceFit fit_landmarks(const FitBasis& basis, const LandmarkTarget& target, const FitSettings& settings);
 
 // Angle in degrees of the rotation between two poses (the geodesic distance on SO(3)).

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/face/face_detector.h"
+#include "libs/face/photo_reader.h"
 #include "libs/fit/fit_basis.h"
 #include "libs/fit/fit_prior.h"
 #include "libs/io/exr_io.h"
@@ -245,6 +246,37 @@ TEST_F(FitCliTest, SamePersonSharesTheIdentityAcrossPhotos) {
   };
   EXPECT_EQ(identity("astronaut"), identity("grace_hopper_512x512"));
   EXPECT_GT(identity("astronaut").size(), 100u);
+}
+
+TEST_F(FitCliTest, StillHeadSharesThePoseAndRefusesPhotosOfAnotherSize) {
+  const std::string two = at("photos/astronaut.png") + " " + at("photos/grace_hopper_512x512.jpg");
+  ASSERT_EQ(run(fit_args() + "--no-visibility --no-contact-sheet --still-head " + two + " -o " + at("out"), at("log")), 0)
+      << read_text(at("log"));
+  ASSERT_EQ(run(fit_args() + "--no-visibility --no-contact-sheet " + two + " -o " + at("alone"), at("log")), 0);
+  auto fit_json = [&](const char* folder, const char* stem) {
+    return nlohmann::json::parse(read_text(dir_ / folder / stem / "fit.json"));
+  };
+  for (const char* key : {"pose", "identity", "expression"}) {
+    EXPECT_EQ(fit_json("out", "astronaut")[key], fit_json("out", "grace_hopper_512x512")[key]) << key;
+    // Alone, the two faces differ: the sharing is the option's doing.
+    EXPECT_NE(fit_json("alone", "astronaut")[key], fit_json("alone", "grace_hopper_512x512")[key]) << key;
+  }
+  // Another size: no shared camera; a clear message naming both photos, exit 1, nothing written.
+  const RgbImage photo = read_photo(at("photos/astronaut.png"));
+  RgbImage wider;
+  wider.width = photo.width + 40;
+  wider.height = photo.height;
+  wider.pixels.assign(static_cast<size_t>(wider.width) * wider.height * 3, 0.5f);
+  for (int y = 0; y < photo.height; ++y)
+    std::copy_n(&photo.pixels[static_cast<size_t>(y) * photo.width * 3], photo.width * 3,
+                &wider.pixels[static_cast<size_t>(y) * wider.width * 3]);
+  write_png_atomically(at("photos/wider.png"), wider);
+  EXPECT_EQ(run(fit_args() + "--no-visibility --still-head " + at("photos/astronaut.png") + " " + at("photos/wider.png") +
+                    " -o " + at("mixed"), at("log")), 1);
+  const std::string log = read_text(at("log"));
+  EXPECT_NE(log.find("--still-head: photo '" + at("photos/wider.png") + "' is 552x512"), std::string::npos) << log;
+  EXPECT_NE(log.find("astronaut.png' is 512x512"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir_ / "mixed" / "astronaut" / "fit.json"));
 }
 
 // Mean angle (degrees) between the planar normal maps `a` and `b` ([3][plane]) over the pixels of

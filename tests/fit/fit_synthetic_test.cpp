@@ -278,7 +278,7 @@ TEST_F(FitSynthetic, SamePersonSharesOneIdentity) {
     t.width = t.height = 256;
     targets.push_back(t);
   }
-  const std::vector<FaceFit> joint = fit_landmarks(*basis_, targets, FitSettings{}, true);
+  const std::vector<FaceFit> joint = fit_landmarks(*basis_, targets, FitSettings{}, SharedFace::kIdentity);
   ASSERT_EQ(joint.size(), 3u);
   EXPECT_EQ(joint[0].identity, joint[1].identity);
   EXPECT_EQ(joint[0].identity, joint[2].identity);
@@ -294,6 +294,80 @@ TEST_F(FitSynthetic, SamePersonSharesOneIdentity) {
   }
   std::printf("identity error (sum of squares): joint %.2f, separate %.2f\n", joint_error, separate_error);
   EXPECT_LE(joint_error, separate_error * 1.05);
+}
+
+// n copies of one photo's landmarks are one photo's evidence n times over: with the shared
+// blocks' priors counted once per photo, the joint cost is n times the single fit's, so the joint
+// fit is the single fit (to the solver's tolerance). Counted once (the old --same-person), the
+// prior would be n times looser and the identity larger.
+TEST_F(FitSynthetic, SharedPriorsCountOncePerPhoto) {
+  const SyntheticFace face = make_synthetic_face(basis_->model(), 530, HeadPose{4, -6, 10});
+  LandmarkTarget target;
+  target.landmarks = add_landmark_noise(face.landmarks, 2.0, 531);
+  target.width = face.camera.width;
+  target.height = face.camera.height;
+  const FaceFit alone = fit_landmarks(*basis_, target, FitSettings{});
+  double norm = 0;
+  for (double x : alone.identity) norm += x * x;
+  for (const SharedFace shared : {SharedFace::kIdentity, SharedFace::kHead}) {
+    const std::vector<FaceFit> joint =
+        fit_landmarks(*basis_, std::vector<LandmarkTarget>(4, target), FitSettings{}, shared);
+    ASSERT_EQ(joint.size(), 4u);
+    double difference = 0, expression = 0;
+    for (int i = 0; i < basis_->identity_count(); ++i)
+      difference += std::pow(joint[0].identity[i] - alone.identity[i], 2);
+    for (size_t i = 0; i < alone.expression.size(); ++i)
+      expression = std::max(expression, std::abs(joint[3].expression[i] - alone.expression[i]));
+    std::printf("%s: identity moved by %.2e (its squared norm %.3f), expression by %.2e, pose by %.3f deg\n",
+                shared == SharedFace::kHead ? "one still head" : "one person", difference, norm, expression,
+                rotation_difference_deg(joint[3].pose(), alone.pose()));
+    EXPECT_LT(difference, 1e-3 * norm);
+    EXPECT_LT(expression, 0.01);
+    EXPECT_LT(rotation_difference_deg(joint[3].pose(), alone.pose()), 0.05);
+  }
+}
+
+// One still head under several photos' landmark noise: one pose, identity and expression for all,
+// and a better face than each photo's own fit (the noise averages out).
+TEST_F(FitSynthetic, StillHeadSharesPoseAndAveragesTheNoise) {
+  const SyntheticFace face = make_synthetic_face(basis_->model(), 540, HeadPose{-8, 12, 5});
+  std::vector<LandmarkTarget> targets;
+  for (int k = 0; k < 5; ++k) {
+    LandmarkTarget t;
+    t.landmarks = add_landmark_noise(face.landmarks, 3.0, 541 + k);
+    t.width = face.camera.width;
+    t.height = face.camera.height;
+    targets.push_back(t);
+  }
+  const std::vector<FaceFit> joint = fit_landmarks(*basis_, targets, FitSettings{}, SharedFace::kHead);
+  ASSERT_EQ(joint.size(), 5u);
+  FitRenderSettings render;
+  render.visibility = false;
+  double separate = 0;
+  for (int k = 0; k < 5; ++k) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(joint[k].rotation[i], joint[0].rotation[i]);
+      EXPECT_EQ(joint[k].translation[i], joint[0].translation[i]);
+    }
+    EXPECT_EQ(joint[k].identity, joint[0].identity);
+    EXPECT_EQ(joint[k].expression, joint[0].expression);
+    const FitRendering alone = render_fit(basis_->model(), fit_landmarks(*basis_, targets[k], FitSettings{}), nullptr, render);
+    separate += mean_normal_error_deg(face, alone.normal, alone.head, nullptr) / 5;
+  }
+  const FitRendering still = render_fit(basis_->model(), joint[0], nullptr, render);
+  const double together = mean_normal_error_deg(face, still.normal, still.head, nullptr);
+  std::printf("3 px landmark noise: normals %.2f deg from five photos as one still head, %.2f deg each alone "
+              "(mean); pose error %.2f deg\n", together, separate, rotation_difference_deg(joint[0].pose(), face.pose));
+  EXPECT_LT(together, separate - FIT_STILL_HEAD_GAIN_DEG);
+  EXPECT_LT(rotation_difference_deg(joint[0].pose(), face.pose), FIT_POSE_BOUND_DEG);
+  // One camera: photos of another size are refused, naming the sizes.
+  targets[2].width += 10;
+  try {
+    fit_landmarks(*basis_, targets, FitSettings{}, SharedFace::kHead);
+    ADD_FAILURE() << "photos of two sizes were fitted as one still head";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("one size"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(FitSynthetic, LightAndAlbedoFollowFromKnownNormalsAndVisibility) {

@@ -52,6 +52,8 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "the ICT-FaceKit FaceXModel folder (with vertex_indices.json)")
       ("same-person", "all photos show one person: one identity shared by every photo's main (largest) face")
+      ("still-head", "all photos show one still head from one camera, e.g. under several lights: one identity, "
+                     "pose and expression shared by every photo's main face (photos of one size)")
       ("shard", po::value<std::string>()->default_value("0/1")->value_name("i/n"),
        "fit only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("no-contact-sheet", "do not write contact_sheet.png");
@@ -119,7 +121,8 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
   const FolderLock lock(out_dir, "-o", shard_index, shard_count);
   const std::unique_ptr<FaceDetector> face_detector = make_face_detector(photo_options);
   FaceDetector& detector = *face_detector;
-  const bool same_person = values.count("same-person") > 0;
+  const bool still_head = values.count("still-head") > 0;
+  const bool same_person = still_head || values.count("same-person") > 0;
   int failed = 0;
   PhotoFitTiming timing;
   ProgressBar progress("fit", static_cast<int64_t>(jobs.size()) * (same_person ? 2 : 1), "photos");
@@ -130,13 +133,18 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
     for (size_t k = 0; k < jobs.size(); ++k) {
       RgbImage photo;
       if (detect_photo(jobs[k], detector, photo_options.detection, photo)) {
+        if (still_head && !targets.empty())
+          check(photo.width == targets[0].width && photo.height == targets[0].height, "--still-head: photo '",
+                jobs[k].path, "' is ", photo.width, "x", photo.height, " but '", jobs[owners[0]].path, "' is ",
+                targets[0].width, "x", targets[0].height,
+                "; one still head needs photos from one camera at one size (or use --same-person)");
         targets.push_back({jobs[k].faces[0].landmarks, photo.width, photo.height});
         owners.push_back(k);
       }
       progress.advance();
     }
     if (!targets.empty()) {
-      const std::vector<FaceFit> fits = fit_landmarks(*basis, targets, fit_options.fit, true);
+      const std::vector<FaceFit> fits = fit_landmarks(*basis, targets, fit_options.fit, still_head ? SharedFace::kHead : SharedFace::kIdentity);
       for (size_t i = 0; i < fits.size(); ++i) joint[owners[i]] = fits[i];
     }
   }
