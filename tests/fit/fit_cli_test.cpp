@@ -150,6 +150,13 @@ TEST_F(FitCliTest, ShardsSplitTheInputsAndUsageErrorsExitTwo) {
   EXPECT_EQ(run(fit_args() + "--camera fisheye " + at("photos") + " -o " + at("out2"), at("log")), 2);
   EXPECT_EQ(run(fit_args() + "--jaw-weight -1 " + at("photos") + " -o " + at("out2"), at("log")), 2);
   EXPECT_NE(read_text(at("log")).find("--jaw-weight"), std::string::npos) << read_text(at("log"));
+  // The joint fits are one problem over all the photos: no shards.
+  for (const char* joint : {"--same-person", "--still-head"}) {
+    EXPECT_EQ(run(fit_args() + joint + " --shard 0/2 " + at("photos") + " -o " + at("out3"), at("log")), 2) << joint;
+    EXPECT_NE(read_text(at("log")).find(std::string(joint) + " fits all the photos in one problem"), std::string::npos)
+        << read_text(at("log"));
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out3"));
   EXPECT_EQ(run("fit --face-model " + at("nowhere") + " " + at("photos") + " -o " + at("out2"), at("log")), 1);
   EXPECT_NE(read_text(at("log")).find("ICT-FaceKit"), std::string::npos) << read_text(at("log"));
 }

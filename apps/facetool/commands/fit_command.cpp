@@ -88,6 +88,10 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
   check_output_option(values, "fit", "an output folder with -o DIR");
   if (!values.count("face-model"))
     throw UsageError(std::string("fit: give --face-model DIR: ") + kIctFaceKitHint);
+  for (const char* joint : {"same-person", "still-head"})
+    if (values.count(joint) && values["shard"].as<std::string>() != "0/1")
+      throw UsageError(std::string("fit: --") + joint +
+                       " fits all the photos in one problem, so it cannot be split by --shard; run it unsharded");
   {
     std::error_code ec;
     check(!fs::exists(out_dir, ec) || fs::is_directory(out_dir, ec), "-o '", out_dir,
