@@ -129,9 +129,10 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
   const bool same_person = still_head || values.count("same-person") > 0;
   int failed = 0;
   PhotoFitTiming timing;
-  ProgressBar progress("fit", static_cast<int64_t>(jobs.size()) * (same_person ? 2 : 1), "photos");
   std::map<size_t, FaceFit> joint;  // same person: job index -> its main face's fit
   if (same_person) {
+    // First every photo's landmarks, then the one problem over all of them.
+    ProgressBar landmarks("landmarks", static_cast<int64_t>(jobs.size()), "photos");
     std::vector<LandmarkTarget> targets;
     std::vector<size_t> owners;
     for (size_t k = 0; k < jobs.size(); ++k) {
@@ -145,13 +146,15 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
         targets.push_back({jobs[k].faces[0].landmarks, photo.width, photo.height});
         owners.push_back(k);
       }
-      progress.advance();
+      landmarks.advance();
     }
+    landmarks.finish();
     if (!targets.empty()) {
       const std::vector<FaceFit> fits = fit_landmarks(*basis, targets, fit_options.fit, still_head ? SharedFace::kHead : SharedFace::kIdentity);
       for (size_t i = 0; i < fits.size(); ++i) joint[owners[i]] = fits[i];
     }
   }
+  ProgressBar progress("fit", static_cast<int64_t>(jobs.size()), "photos");
   for (size_t k = 0; k < jobs.size(); ++k) {
     PhotoJob& job = jobs[k];
     RgbImage photo;
