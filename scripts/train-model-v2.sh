@@ -5,7 +5,7 @@
 #
 # Steps: lights synth-heldout synth real fit-labels stage1 stage2 prior-data prior-stage1
 # prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2
-# shading-stage2 eval.
+# shading-stage2 tex-stage2 tex-grey-stage2 eval.
 # The prior-* steps train the same network with the fit's normals as a second input (issue 25
 # item 4; docs/fit.md, "The fit as the network's input") for the same table; the tex-* steps train
 # that network again on synthetic faces painted with albedo textures unwrapped from the training
@@ -58,7 +58,7 @@ TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
 # 1.6), where the fit's default 22.5 makes faces too flat (model card: prior error 7.6 against 8.3
 # degrees on held-out synthetic faces, 14.1 against 14.6 on yaleb-dev).
 PRIOR_FOV=14
-ALL_STEPS="lights synth-heldout synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 eval"
+ALL_STEPS="lights synth-heldout synth real fit-labels stage1 stage2 prior-data prior-stage1 prior-stage2 textures synth-textured prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 eval"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -219,6 +219,28 @@ step_shading-stage2() {
   train_run "$WORK/shading-stage2.json" "$WORK/shading-stage2" --from "$from"
 }
 
+# The paper's network (no input prior) on the data of tex-prior-stage2, with its terms, from the
+# paper network's stage 1: the other column of the table (issue 25 item 4). Its normals on real
+# photos come from the image alone, so it needs no face model at run time.
+step_tex-stage2() {
+  write_config tex-stage2 "$WORK/tex-stage2.json"
+  seed_from_repository tex-stage2
+  local from=$WORK/stage1/weights.safetensors
+  [ -e "$from" ] || from=checkpoints/facetool-v2/stage1/checkpoint.safetensors
+  train_run "$WORK/tex-stage2.json" "$WORK/tex-stage2" --from "$from"
+}
+
+# tex-stage2 with a quarter of each source's photos shown to the network in grey (the config's
+# grey_fraction; docs/training.md), from tex-stage2's weights as they stand: an image-only network
+# that leans on colour answers grey photos (yaleb-dev's, old prints) with other normals.
+step_tex-grey-stage2() {
+  write_config tex-grey-stage2 "$WORK/tex-grey-stage2.json"
+  seed_from_repository tex-grey-stage2
+  local from=$WORK/tex-stage2/weights.safetensors
+  [ -e "$from" ] || from=checkpoints/facetool-v2/tex-stage2/checkpoint.safetensors
+  train_run "$WORK/tex-grey-stage2.json" "$WORK/tex-grey-stage2" --from "$from"
+}
+
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
 # synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
 # against the fit's labels), a contact sheet of 24 held-out UTKFace photos (every k-th of the
@@ -226,11 +248,11 @@ step_shading-stage2() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
-    [[ $stage == tex-* || $stage == shading-* ]] && synthetic=$WORK/synthetic-heldout-prior14 real=$WORK/real-fit-heldout-prior14
+    [[ $stage == tex-prior-* || $stage == shading-* ]] && synthetic=$WORK/synthetic-heldout-prior14 real=$WORK/real-fit-heldout-prior14
     eval_stage "$stage" "$synthetic" "$real"
     /usr/bin/python3 scripts/eval-groups.py "$WORK/eval/$stage-real/per_image.csv" \
       "$WORK/real-heldout/manifest.tsv" > "$WORK/eval/$stage-real/groups.md"

@@ -6,6 +6,7 @@
 
 #include "core/autograd/functions.h"
 #include "core/autograd/synced_batch_norm.h"
+#include "libs/train/grey_inputs.h"
 #include "core/util/math_constants.h"
 
 namespace facetool {
@@ -280,7 +281,10 @@ StepRecord Trainer::step() {
       pixel_share = counts[0] > 0 ? local[0] / counts[0] : 0.0;
       image_share = local[1] / counts[1];
     }
-    const NetworkOutputs out = network_->forward(ag::Variable(batch.network_input()), true);
+    const int source_index = static_cast<int>(&source - sources_.data());
+    const Tensor input = grey_some_rows(batch.network_input(), config_.seed, step_, source_index,
+                                        source->config->grey_fraction);
+    const NetworkOutputs out = network_->forward(ag::Variable(input), true);
     // The light feeds the renderer, which would refuse it with a message naming neither the
     // step nor the cause: a non-finite light is divergence (the batch itself was checked when
     // it was read).

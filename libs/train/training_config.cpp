@@ -131,7 +131,7 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   for (size_t k = 0; k < root.at("sources").size(); ++k) {
     const json& s = root.at("sources")[k];
     const std::string where = "sources[" + std::to_string(k) + "]";
-    r.only_keys(s, where, {"name", "kind", "directory", "batch", "terms"});
+    r.only_keys(s, where, {"name", "kind", "directory", "batch", "grey_fraction", "terms"});
     DataSource d;
     d.name = r.text(s, where, "name", "", true);
     check(names.insert(d.name).second, "training config '", path, "': two sources are called '",
@@ -144,6 +144,7 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
     if (!d.directory.empty() && std::filesystem::path(d.directory).is_relative() && !base.empty())
       d.directory = (std::filesystem::path(base) / d.directory).lexically_normal().string();
     d.batch = static_cast<int>(r.integer(s, where, "batch", d.batch, false, 1, 1 << 16));
+    d.grey_fraction = r.number(s, where, "grey_fraction", d.grey_fraction, false, 0.0, 1.0);
     check(s.contains("terms") && s.at("terms").is_object() && !s.at("terms").empty(),
           "training config '", path, "': ", where, " needs \"terms\": {\"term\": weight, ...}");
     for (auto it = s.at("terms").begin(); it != s.at("terms").end(); ++it) {

@@ -22,6 +22,9 @@ struct DataSource {
                           // (image and mask only)
   std::string directory;  // relative paths are taken from the configuration file's folder
   int batch = 20;
+  // Fraction of this source's input photos given to the network in grey (libs/train/grey_inputs.h),
+  // so that it does not lean on colour that grey photos lack; the loss targets stay in colour.
+  double grey_fraction = 0;
   std::vector<WeightedTerm> terms;
   uint32_t provides() const;  // LossNeeds bits the kind supplies
 };

@@ -11,6 +11,7 @@
 
 #include "libs/face/face_crops.h"
 #include "libs/face/face_detector.h"
+#include "tests/support/cli_run.h"
 #include "libs/io/exr_io.h"
 #include "libs/io/image_io.h"
 
@@ -20,17 +21,10 @@ namespace facetool {
 namespace {
 
 int run(const std::string& args, const std::string& log) {
-  const std::string command = std::string(FACETOOL_EXE) + " " + args + " 2>" + log;
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::run_cli(FACETOOL_EXE, args, log);
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::read_text;
 
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/face/face_detector.h"
+#include "tests/support/cli_run.h"
 #include "libs/face/photo_reader.h"
 #include "libs/fit/fit_basis.h"
 #include "libs/fit/fit_prior.h"
@@ -31,17 +32,10 @@ namespace facetool {
 namespace {
 
 int run(const std::string& args, const std::string& log) {
-  const std::string command = std::string(FACETOOL_EXE) + " " + args + " >/dev/null 2>" + log;
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::run_cli(FACETOOL_EXE, args, log, true);
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::read_text;
 
 class FitCliTest : public ::testing::Test {
  protected:

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "libs/face/face_detector.h"
+#include "tests/support/cli_run.h"
 #include "libs/io/image_io.h"
 
 namespace fs = std::filesystem;
@@ -21,17 +22,10 @@ namespace facetool {
 namespace {
 
 int run(const std::string& args, const std::string& log) {
-  const std::string command = std::string(FACETOOL_EXE) + " " + args + " 2>" + log;
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::run_cli(FACETOOL_EXE, args, log);
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::read_text;
 
 // The largest difference of two 8-bit images read as stored values in [0, 1], over pixels not in
 // the top-right `skip` x `skip` corner.

@@ -150,9 +150,17 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
     }
   }
   // v2 is trained at its framing (docs/photos.md, "Framing"), both stages alike.
-  for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json"})
+  for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json", "facetool-v2-tex-stage2.json",
+                           "facetool-v2-tex-grey-stage2.json"})
     EXPECT_EQ(read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).framing,
               v2_framing()) << name;
+  // The grey run shows a quarter of each source's photos in grey; its plain twin none.
+  for (const DataSource& s :
+       read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-grey-stage2.json").sources)
+    EXPECT_EQ(s.grey_fraction, 0.25) << s.name;
+  for (const DataSource& s :
+       read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-stage2.json").sources)
+    EXPECT_EQ(s.grey_fraction, 0.0) << s.name;
 }
 
 // network.framing must be the samples' framing (their facetool:framing; none is v1): training a
@@ -230,6 +238,21 @@ TEST_F(TrainTest, ResumeIsBitExactOnCpu) {
   // Without restoring, step 4 differs (the comparison above can fail).
   auto fresh = trainer(be, c);
   EXPECT_NE(fresh->step().total, straight[3].total);
+}
+
+// A source's grey_fraction reaches the network's input: every photo grey changes the first step's
+// losses (the samples are coloured), the terms' targets stay the coloured samples (the albedo term
+// is measured against the same labels either way), and a fraction of 0 is the plain run.
+TEST_F(TrainTest, GreyFractionChangesWhatTheNetworkSees) {
+  Backend& be = get_backend("cpu");
+  const TrainingConfig plain = config(data->path());
+  TrainingConfig grey = plain, none = plain;
+  grey.sources[0].grey_fraction = 1.0;
+  none.sources[0].grey_fraction = 0.0;
+  const StepRecord a = trainer(be, plain)->step(), b = trainer(be, grey)->step(),
+                   c = trainer(be, none)->step();
+  EXPECT_NE(a.total, b.total);
+  EXPECT_EQ(a.total, c.total);
 }
 
 TEST_F(TrainTest, CheckpointOfAnotherNetworkIsRefused) {
