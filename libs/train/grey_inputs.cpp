@@ -26,12 +26,13 @@ bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fract
   return static_cast<double>(h >> 11) * 0x1.0p-53 < fraction;
 }
 
-Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction) {
+Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction,
+                      int64_t first_row) {
   const Shape& s = input.shape();
   check(s.rank() == 4 && s.c() >= 3, "grey inputs: expected [N, C >= 3, H, W], got ", s.str());
   std::vector<int64_t> rows;
   for (int64_t n = 0; n < s.n(); ++n)
-    if (grey_row(seed, step, source, n, fraction)) rows.push_back(n);
+    if (grey_row(seed, step, source, first_row + n, fraction)) rows.push_back(n);
   if (rows.empty()) return input;
   std::vector<float> v = input.to_host();
   const size_t plane = static_cast<size_t>(s.h()) * s.w();

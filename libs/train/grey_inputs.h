@@ -16,7 +16,10 @@ bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fract
 
 // `input` ([N, C, H, W], C >= 3: the photo's linear RGB, then any prior channels) with the rows
 // grey_row picks given luminance in their first three channels; the other channels and rows are
-// unchanged. Only the network's input: the loss targets keep the colour photo.
-Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction);
+// unchanged. `first_row`: the batch row of input's row 0 (a rank's slice of the batch starts
+// there), so that every process count greys the same images. Only the network's input: the loss
+// targets keep the colour photo.
+Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction,
+                      int64_t first_row = 0);
 
 }  // namespace facetool

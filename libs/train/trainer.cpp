@@ -282,8 +282,9 @@ StepRecord Trainer::step() {
       image_share = local[1] / counts[1];
     }
     const int source_index = static_cast<int>(&source - sources_.data());
+    const int64_t first_row = parallel ? rank_rows(global_images, comm_->rank(), comm_->size()).first : 0;
     const Tensor input = grey_some_rows(batch.network_input(), config_.seed, step_, source_index,
-                                        source->config->grey_fraction);
+                                        source->config->grey_fraction, first_row);
     const NetworkOutputs out = network_->forward(ag::Variable(input), true);
     // The light feeds the renderer, which would refuse it with a message naming neither the
     // step nor the cause: a non-finite light is divergence (the batch itself was checked when

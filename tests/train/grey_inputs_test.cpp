@@ -30,6 +30,15 @@ TEST(GreyInputs, GreyRowsHoldTheLuminanceAndKeepThePrior) {
       for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(after[at + c * plane], y, 1e-6) << n << " " << c;
       for (size_t c = 3; c < 6; ++c) EXPECT_EQ(after[at + c * plane], before[at + c * plane]);
     }
+  // A slice of the batch starting at row `first_row` greys the rows the whole batch would.
+  for (int64_t first_row : {0, 5, 17}) {
+    const std::vector<float> half = grey_some_rows(input, 1, 3, 0, 0.5, first_row).to_host();
+    for (int64_t n = 0; n < 3; ++n) {
+      const size_t at = static_cast<size_t>(n) * 6 * plane;
+      const bool changed = half[at] != before[at] || half[at + plane] != before[at + plane];
+      EXPECT_EQ(changed, grey_row(1, 3, 0, first_row + n, 0.5)) << first_row << " " << n;
+    }
+  }
 }
 
 // A fraction of 0.25 greys about a quarter of the rows (1,600 draws: within 0.05, over 6 standard
