@@ -9,6 +9,7 @@
 #include "core/util/stage_timer.h"
 #include "libs/face/face_alignment.h"
 #include "libs/image/guided_filter.h"
+#include "libs/io/image_io.h"
 
 namespace facetool {
 
@@ -39,8 +40,7 @@ FaceGuide face_guide(const RgbImage& photo, const PasteRegion& r) {
     for (int x = 0; x < g.width; ++x) {
       const float* p = photo.at(g.x0 + x, g.y0 + y);
       g.photo[static_cast<size_t>(y) * g.width + x] =
-          std::clamp(0.2126f * linear_to_srgb(p[0]) + 0.7152f * linear_to_srgb(p[1]) + 0.0722f * linear_to_srgb(p[2]),
-                     0.0f, 1.0f);
+          std::clamp(luminance(linear_to_srgb(p[0]), linear_to_srgb(p[1]), linear_to_srgb(p[2])), 0.0f, 1.0f);
     }
   g.crop = warp_plane_to_crop(g.photo.data(), g.width, g.height,
                               r.photo_to_crop.then_after(Similarity2::from(1.0, 0.0, g.x0, g.y0)), r.crop_size);

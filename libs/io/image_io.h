@@ -39,6 +39,11 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
 void check_image_header_plausible(const std::string& path, const std::string& format,
                                   int64_t width, int64_t height, uint64_t file_bytes);
 
+// Rec. 709 weighted sum of three channels: the luminance of linear RGB (the luma of sRGB-encoded
+// values). The detector's engine spells it out instead: its AVX2 copy must not define code that
+// the portable program shares (libs/face/face_detector_engine_avx2.cpp).
+inline float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);

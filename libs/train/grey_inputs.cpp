@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/util/error.h"
+#include "libs/io/image_io.h"
 
 namespace facetool {
 namespace {
@@ -41,7 +42,7 @@ Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int sour
     float* g = r + plane;
     float* b = g + plane;
     for (size_t p = 0; p < plane; ++p) {
-      const float y = kLumaR * r[p] + kLumaG * g[p] + kLumaB * b[p];
+      const float y = luminance(r[p], g[p], b[p]);
       r[p] = g[p] = b[p] = y;
     }
   }

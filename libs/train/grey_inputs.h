@@ -7,18 +7,15 @@
 
 namespace facetool {
 
-// Linear-RGB luminance (Rec. 709 weights), the grey that replaces a photo's three channels.
-constexpr float kLumaR = 0.2126f, kLumaG = 0.7152f, kLumaB = 0.0722f;
-
 // Whether row `row` of the batch drawn at `step` for source number `source` is turned grey: a
 // hash of (seed, step, source, row) against `fraction`, so a resumed run greys the same rows.
 bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction);
 
 // `input` ([N, C, H, W], C >= 3: the photo's linear RGB, then any prior channels) with the rows
-// grey_row picks given luminance in their first three channels; the other channels and rows are
-// unchanged. `first_row`: the batch row of input's row 0 (a rank's slice of the batch starts
-// there), so that every process count greys the same images. Only the network's input: the loss
-// targets keep the colour photo.
+// grey_row picks given their luminance (libs/io/image_io.h) in their first three channels; the
+// other channels and rows are unchanged. `first_row`: the batch row of input's row 0 (a rank's
+// slice of the batch starts there), so that every process count greys the same images. Only the
+// network's input: the loss targets keep the colour photo.
 Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction,
                       int64_t first_row = 0);
 
