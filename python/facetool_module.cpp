@@ -235,7 +235,7 @@ PYBIND11_MODULE(_facetool, m) {
   m.def("backends", &available_backends,
         "Names of the compute backends that work on this machine (\"cpu\" always; \"opencl\" with a device).");
   m.def("default_model_path", &default_model_path,
-        "Path of the shipped model (facetool-v1.safetensors); raises facetool.Error naming the folders searched.");
+        "Path of the shipped model (facetool-v2.safetensors); raises facetool.Error naming the folders searched.");
 
   py::class_<Face>(m, "Face", "One face of a decomposed photo: crop-level results (crop frame) and where it lies in the photo.")
       .def_property_readonly("index", [](const Face& f) { return f.index; }, "Position among the photo's faces (best detection score first).")

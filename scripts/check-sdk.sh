@@ -42,8 +42,8 @@ fi
 step "installed into a temporary prefix"
 
 # The installed program finds its shipped model (share/facetool/models) without --model.
-if [ -e models/facetool-v1.safetensors ]; then
-  [ -e "$prefix/share/facetool/models/facetool-v1.safetensors" ] || fail "the shipped model is not installed"
+if [ -e models/facetool-v2.safetensors ]; then
+  [ -e "$prefix/share/facetool/models/facetool-v2.safetensors" ] || fail "the shipped model is not installed"
   "$prefix/bin/facetool" infer examples/photos/astronaut.png -o "$work/installed-infer" 2> "$work/infer.log" ||
     { cat "$work/infer.log"; fail "the installed facetool could not decompose an example photo with its model"; }
   [ -s "$work/installed-infer/astronaut/contact_sheet.png" ] || fail "installed infer wrote no contact sheet"
@@ -89,7 +89,7 @@ cmake --build "$api" > "$work/api-build.log" || { cat "$work/api-build.log"; fai
 if grep -n -e "$src" "$api/build.ninja" "$api/CMakeCache.txt" | head -5 | grep .; then
   fail "the API example's build refers to the source or build tree"
 fi
-if [ -e models/facetool-v1.safetensors ] && [ -e /usr/share/dlib/shape_predictor_68_face_landmarks.dat ]; then
+if [ -e models/facetool-v2.safetensors ] && [ -e /usr/share/dlib/shape_predictor_68_face_landmarks.dat ]; then
   env -u FACETOOL_PLUGIN_PATH -u FACETOOL_MODEL_DIR "$api/decompose_photo" examples/photos/astronaut.png \
     "$work/api-relit.png" > "$work/api-run.log" 2>&1 || { cat "$work/api-run.log"; fail "the API example failed"; }
   grep -q "^face 0: score" "$work/api-run.log" || { cat "$work/api-run.log"; fail "the API example found no face"; }

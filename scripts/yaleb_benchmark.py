@@ -951,7 +951,7 @@ def command_score(args):
               None if p(s, stem) is None else
               (templates[s]["aligned"][0], templates[s]["aligned"][1] & p(s, stem)[1]))
         # The landmark fit (the `fit` folder) where both it and this candidate have normals: the
-        # model goal's "0.8 x the fit's error on the same pixels" (docs/model-card-v2.md).
+        # model goal's "0.8 x the fit's error on the same pixels" (docs/model-card.md).
         if fit is not None and not label.startswith("fit"):
             def on_both(s, stem, p=predict):
                 got, f = p(s, stem), fit(s, stem)

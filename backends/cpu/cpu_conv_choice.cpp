@@ -104,7 +104,7 @@ std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
 
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels) {
   if (g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
-      g.out_width == g.width && g.channels >= 32 && out_channels >= 32)
+      g.out_width == g.width && g.channels >= 16 && out_channels >= 16)
     return ConvAlgorithm::Winograd;
   return ConvAlgorithm::Im2col;
 }

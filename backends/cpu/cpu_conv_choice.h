@@ -24,7 +24,7 @@ std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
                                                       int64_t out_channels);
 
 // The rule used when nothing was measured for a shape (from measurements on the machine kind
-// of docs/performance.md): Winograd for 3x3 same convolutions with >= 32 channels on both
+// of docs/performance.md): Winograd for 3x3 same convolutions with >= 16 channels on both
 // sides, im2col + SGEMM otherwise.
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels);
 

@@ -7,7 +7,7 @@
 namespace facetool {
 
 // File name of the shipped weights (models/ in the source tree).
-inline constexpr const char* kDefaultModelFile = "facetool-v1.safetensors";
+inline constexpr const char* kDefaultModelFile = "facetool-v2.safetensors";
 
 // Folders searched, in order: $FACETOOL_MODEL_DIR, then <executable>/../share/facetool/models
 // (the install layout; the build tree mirrors it as build/share/facetool/models), then

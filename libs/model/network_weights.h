@@ -14,7 +14,7 @@ namespace facetool {
 //   width, input_size, input = "linear_rgb" (linear RGB in [0, 1]; 8-bit sRGB files decoded)
 //   or "linear_rgb+PRIOR" for a network with NetworkConfig::input_prior PRIOR,
 //   and, when the model was trained at a framing other than v1's, framing = framing_text(...)
-//   (libs/image/crop_framing.h; a file without it, such as facetool-v1, is at v1's framing).
+//   (libs/image/crop_framing.h; a file without it, such as the former facetool-v1, is at v1's framing).
 constexpr const char* kWeightsFormat = "facetool-network";
 constexpr int kWeightsFormatVersion = 1;
 

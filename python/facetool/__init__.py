@@ -45,7 +45,7 @@ _models = {}
 def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None):
     """Loads a decomposition model (a facetool.Model).
 
-    weights: a .safetensors file (None: the shipped model, facetool-v1). backend: one of
+    weights: a .safetensors file (None: the shipped model, facetool-v2). backend: one of
     facetool.backends() ("cpu", "opencl", ...). renderer: the renderer plugin. landmark_model:
     dlib's 68-point shape predictor (None: Debian libdlib-data's; research use only).
     """

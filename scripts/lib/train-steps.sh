@@ -1,4 +1,4 @@
-# Shared by scripts/train-model.sh (v1) and scripts/train-model-v2.sh: resumable steps with
+# Shared by scripts/train-model.sh (the shipped v2) and scripts/train-model-v1.sh: resumable steps with
 # recorded wall times, training runs that resume their checkpoint, and the held-out rules for
 # lights and UTKFace photos. Sourced; expects FACETOOL, WORK, SHARED and HELDOUT_LIGHTS.
 
@@ -31,10 +31,11 @@ run_step() {
   echo "== $name: ${seconds} s"
 }
 
-# Runs the steps named on the command line, or all of ALL_STEPS, in order.
+# Runs the steps named on the command line (any of ALL_STEPS), or DEFAULT_STEPS (when the script
+# sets it, else ALL_STEPS), in order.
 run_steps() {
   local steps=("$@") s
-  [ ${#steps[@]} -eq 0 ] && read -r -a steps <<< "$ALL_STEPS"
+  [ ${#steps[@]} -eq 0 ] && read -r -a steps <<< "${DEFAULT_STEPS:-$ALL_STEPS}"
   for s in "${steps[@]}"; do
     declare -F "step_$s" > /dev/null || die "unknown step '$s' ($ALL_STEPS)"
     run_step "$s"
@@ -102,4 +103,25 @@ eval_stage() {
     -o "$WORK/eval/$stage-synthetic" --contact-sheet
   "$FACETOOL" eval --model "$WORK/$stage/weights.safetensors" --data "$real" \
     -o "$WORK/eval/$stage-real" --contact-sheet
+}
+
+# Pictures of the weights WEIGHTS in $WORK/figures: the example photos through infer (example/),
+# the first 8 held-out synthetic samples and the 8 with the largest normal error in
+# $WORK/eval/STAGE-synthetic through eval's contact sheet (first-eval/, worst-eval/).
+model_figures() {
+  local weights=$1 stage=$2 set f
+  mkdir -p "$WORK/figures"
+  "$FACETOOL" infer --model "$weights" examples/photos/grace_hopper_512x512.jpg examples/photos/astronaut.png \
+    -o "$WORK/figures/example" > /dev/null
+  rm -rf "$WORK/figures/first" "$WORK/figures/worst" && mkdir -p "$WORK/figures/first" "$WORK/figures/worst"
+  for f in $(ls "$WORK/synthetic-heldout" | grep '^sample_.*\.exr$' | head -8); do
+    ln -s "$(realpath "$WORK/synthetic-heldout/$f")" "$WORK/figures/first/$f"
+  done
+  for f in $(tail -n +2 "$WORK/eval/$stage-synthetic/per_image.csv" | sort -t, -k3,3 -g -r | head -8 | cut -d, -f1); do
+    ln -s "$(realpath "$WORK/synthetic-heldout/$f")" "$WORK/figures/worst/$f"
+  done
+  for set in first worst; do
+    "$FACETOOL" eval --model "$weights" --data "$WORK/figures/$set" -o "$WORK/figures/$set-eval" \
+      --contact-sheet > /dev/null
+  done
 }

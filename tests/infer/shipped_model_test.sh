@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The shipped model: found without --model by infer, relight, pseudo-label and eval, at most 20 MB, and
-# trained: its reconstruction PSNR on the example photos must reach 15 dB (facetool-v1: 18.7 dB;
-# untrained weights of its shape: 4.1 dB; a 15-minute width-32 trial: 13.0 dB).
+# trained: its reconstruction PSNR on the example photos must reach 15 dB (facetool-v2: 21.6 dB; the
+# former facetool-v1 at its 64 x 64 framing: 18.7 dB; untrained weights of v1's shape: 4.1 dB).
 # Usage: shipped_model_test.sh FACETOOL SOURCE_DIR
 set -euo pipefail
 facetool=$1
 source_dir=$2
-model="$source_dir/models/facetool-v1.safetensors"
+model="$source_dir/models/facetool-v2.safetensors"
 [ -s "$model" ] || { echo "FAIL: $model missing"; exit 1; }
 bytes=$(stat -c %s "$model")
 [ "$bytes" -le 20000000 ] || { echo "FAIL: $model is $bytes bytes, over 20 MB"; exit 1; }
@@ -34,11 +34,21 @@ fi
 grep -q "not both" "$work/err" || { cat "$work/err"; exit 1; }
 
 # Quality: reconstruction PSNR in the face mask of the two example photos (eval on prepare-real
-# crops), shipped model against untrained weights of the same shape.
-"$facetool" prepare-real "$photos" --size 64 -o "$work/real" 2>/dev/null
+# crops at the model's input size and framing, read from its file).
+size=$(grep -ao '"input_size":"[0-9]*"' "$model" | grep -o '[0-9]*')
+framing=$(grep -ao '"framing":"[^"]*"' "$model" | sed 's/"framing":"//; s/"$//')
+[ -n "$size" ] && [ -n "$framing" ] || { echo "FAIL: no input_size or framing in $model's header"; exit 1; }
+"$facetool" prepare-real "$photos" --size "$size" --framing "$framing" -o "$work/real" 2>/dev/null
 "$facetool" eval --data "$work/real" -o "$work/eval" >/dev/null 2>&1
 "$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
 [ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }
+# Samples of another size: a clear error that says how to make them for this model.
+"$facetool" prepare-real "$photos" --size 64 -o "$work/real64" 2>/dev/null
+if "$facetool" eval --data "$work/real64" -o "$work/eval64" > /dev/null 2> "$work/err"; then
+  echo "FAIL: eval accepted 64 x 64 samples for a ${size} x ${size} model"; exit 1
+fi
+grep -q "make samples of its size and framing (prepare-real or synth --size $size --framing" "$work/err" ||
+  { cat "$work/err"; echo "FAIL: no advice on the samples' size"; exit 1; }
 psnr() { grep -o '"psnr_db_mean": *[-0-9.e+]*' "$1" | grep -o '[-0-9.e+]*$'; }
 trained=$(psnr "$work/eval/summary.json")
 echo "shipped model: mean PSNR on the example photos $trained dB"

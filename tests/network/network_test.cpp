@@ -154,7 +154,7 @@ TEST(PaperNetwork, FusedTrainingGradientsMatchThePlainPath) {
 }
 
 // The shipped model (models/) gives the same outputs on the fused path as on the plain ops, to
-// float rounding, at batch 1 and 20 (batch 20 runs in chunks of 4 images).
+// float rounding, at batch 1 and 20 (batch 20 runs in chunks of 3 images, the last of 2).
 TEST(PaperNetwork, ShippedModelFusedEvalMatchesThePlainPath) {
   Backend& be = get_backend("cpu");
   const std::string path = FACETOOL_SHIPPED_MODEL;

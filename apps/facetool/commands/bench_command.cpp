@@ -48,7 +48,7 @@ void bench_ops(CommandContext& context, const BenchSettings& settings) {
   run_op_benchmarks(backend, settings.batches, settings.repeats, std::cout);
 }
 
-// Without --width / --input-size: the shipped model's size (models/README.md: width 32, 64x64),
+// Without --width / --input-size: the shipped model's size (docs/model-card.md: width 32, 96x96),
 // then the paper's (width 128, 128x128).
 void bench_network(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
@@ -56,9 +56,9 @@ void bench_network(CommandContext& context, const BenchSettings& settings) {
   if (settings.width_given || settings.input_size_given)
     configs.push_back(NetworkConfig{settings.width, settings.input_size});
   else if (settings.quick)
-    configs.push_back(NetworkConfig{32, 64});
+    configs.push_back(NetworkConfig{32, 96});
   else
-    configs = {NetworkConfig{32, 64}, NetworkConfig{128, 128}};
+    configs = {NetworkConfig{32, 96}, NetworkConfig{128, 128}};
   for (size_t i = 0; i < configs.size(); ++i) {
     if (i > 0) std::cout << "\n";
     auto net = create_plugin<NetworkPlugin>(context, FACETOOL_PLUGIN_NETWORK, "paper_network");
@@ -177,7 +177,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "timed repetitions per measurement (the median is reported)")
       ("quick", po::bool_switch(), "a fast smoke run: batch 1, few repetitions")
       ("width", po::value<int>()->default_value(128),
-       "network: width (without it and --input-size: the shipped 32 at 64x64, then the paper's 128 at 128x128)")
+       "network: width (without it and --input-size: the shipped 32 at 96x96, then the paper's 128 at 128x128)")
       ("input-size", po::value<int>()->default_value(128), "network, render: image size (the paper: 128)")
       ("train-batch", po::value<int>()->default_value(20), "network: batch of the training step (0: skip); render: batch")
       ("photo", po::value<std::string>()->default_value("examples/photos/grace_hopper_512x512.jpg"),

@@ -335,7 +335,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   }
 
   Backend& backend = get_backend(context.backend);
-  auto network = load_trained_network(context, backend, model);
+  const LoadedNetwork loaded = load_trained_network(context, backend, model);
+  const std::shared_ptr<NetworkPlugin> network = loaded.network;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
   const int size = network->config().input_size;
@@ -360,8 +361,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
         if (planes.empty()) samples.clear();
         samples.push_back(read_training_sample(files[k], false, network->config().input_prior));
         const TrainingSample& s = samples.back();
-        check(s.width == size && s.height == size, "sample '", files[k], "' is ", s.width,
-              "x", s.height, " but the network takes ", size, "x", size);
+        check_sample_size(files[k], s.width, s.height, loaded);
         planes.insert(planes.end(), s.image.begin(), s.image.end());
         planes.insert(planes.end(), s.prior.begin(), s.prior.end());  // the input prior, if any
       },

@@ -206,11 +206,11 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   if (from == "fit") return pseudo_label_from_fit(files, out_dir, shard_index, shard_count, values);
 
   Backend& backend = get_backend(context.backend);
-  auto network = load_trained_network(context, backend, model);
+  const LoadedNetwork loaded = load_trained_network(context, backend, model);
+  const std::shared_ptr<NetworkPlugin> network = loaded.network;
   check_takes_photos_alone(*network, model);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
-  const int size = network->config().input_size;
   fs::create_directories(out_dir);
   check_input_folder(out_dir, "-o");
   // One run per output folder (the shards of one sharded run write disjoint names and share it).
@@ -221,7 +221,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
       decomposer, backend, files.size(), batch,
       [&](size_t k, std::vector<float>& planes) {
         if (planes.empty()) inputs.clear();
-        inputs.push_back(load_face_input(files[k], size));
+        inputs.push_back(load_face_input(files[k], loaded));
         planes.insert(planes.end(), inputs.back().image.begin(), inputs.back().image.end());
       },
       [&](size_t first, const Decomposition& d, const std::vector<float>&) {

@@ -11,12 +11,20 @@
 
 namespace facetool {
 
-std::shared_ptr<NetworkPlugin> load_trained_network(CommandContext& context, Backend& backend,
-                                                    const std::string& weights_path) {
-  return load_network_weights_file(context, backend, weights_path).network;
+LoadedNetwork load_trained_network(CommandContext& context, Backend& backend,
+                                   const std::string& weights_path) {
+  return load_network_weights_file(context, backend, weights_path);
 }
 
-FaceInput load_face_input(const std::string& path, int size) {
+void check_sample_size(const std::string& path, int width, int height, const LoadedNetwork& net) {
+  const int size = net.network->config().input_size;
+  check(width == size && height == size, "sample '", path, "' is ", width, "x", height,
+        " but the network takes ", size, "x", size, "; make samples of its size and framing ",
+        "(prepare-real or synth --size ", size, " --framing '", framing_text(net.framing), "')");
+}
+
+FaceInput load_face_input(const std::string& path, const LoadedNetwork& net) {
+  const int size = net.network->config().input_size;
   FaceInput in;
   in.path = path;
   const std::string ext = std::filesystem::path(path).extension().string();
@@ -25,9 +33,7 @@ FaceInput load_face_input(const std::string& path, int size) {
     if (header.find_metadata("facetool:generator_version") != nullptr) {
       in.sample = true;
       in.file = read_exr(path, "facetool:");
-      check(in.file.width == size && in.file.height == size, "sample '", path, "' is ",
-            in.file.width, "x", in.file.height, " but the network takes ", size, "x", size,
-            "; make samples of that size (--size ", size, ")");
+      check_sample_size(path, in.file.width, in.file.height, net);
       const size_t plane = in.file.plane_size();
       for (const char* name : {"R", "G", "B"}) {
         const float* p = in.file.plane(in.file.require_channel(name, path));

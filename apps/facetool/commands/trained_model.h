@@ -9,12 +9,17 @@
 #include "core/backend/backend.h"
 #include "libs/io/layered_image.h"
 #include "core/plugin/network_plugin.h"
+#include "libs/inference/model_loading.h"
 
 namespace facetool {
 
 // Creates the weights' architecture, builds it with their configuration and loads them.
-std::shared_ptr<NetworkPlugin> load_trained_network(CommandContext& context, Backend& backend,
-                                                    const std::string& weights_path);
+LoadedNetwork load_trained_network(CommandContext& context, Backend& backend,
+                                   const std::string& weights_path);
+
+// Throws facetool::Error when sample `path` (width x height) is not at the network's input size,
+// saying how to make samples of its size and framing.
+void check_sample_size(const std::string& path, int width, int height, const LoadedNetwork& net);
 
 // One face input at the network's size: a sample EXR (synthetic or real, kept whole in `file`
 // so its channels and attributes can be written back) or a plain crop (PNG/JPEG as sRGB,
@@ -26,6 +31,6 @@ struct FaceInput {
   std::vector<float> image; // [3][S*S] linear RGB
   std::vector<float> mask;  // [S*S]
 };
-FaceInput load_face_input(const std::string& path, int size);
+FaceInput load_face_input(const std::string& path, const LoadedNetwork& net);
 
 }  // namespace facetool

@@ -11,7 +11,7 @@ void add_network_options(po::options_description& options) {
   options.add_options()
       ("model,m", po::value<std::string>()->value_name("WEIGHTS"),
        "network weights (.safetensors, docs/model-format.md; default: the shipped model "
-       "share/facetool/models/facetool-v1.safetensors, docs/model-card.md)")
+       "share/facetool/models/facetool-v2.safetensors, docs/model-card.md)")
       ("init", po::value<std::string>(), "'random': untrained weights instead of --model (for testing the pipeline)")
       ("seed", po::value<uint64_t>()->default_value(1), "seed of --init random")
       ("width", po::value<int>()->default_value(128), "network width for --init random")
