@@ -8,6 +8,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "backends/cpu/cpu_winograd.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/parallel_for.h"
@@ -94,7 +95,8 @@ std::string conv_shape_key(const ConvGeometry& g, int64_t batch, int64_t out_cha
 std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
                                                       int64_t out_channels) {
   std::vector<ConvAlgorithm> algorithms{ConvAlgorithm::Im2col};
-  // Winograd's own threshold (>= 32 channels) is a speed rule; any channel count is correct.
+  // Winograd's own threshold (>= 16 channels, winograd_applicable) is a speed rule; any channel
+  // count is correct.
   if (g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
       g.out_width == g.width && out_channels >= 1)
     algorithms.push_back(ConvAlgorithm::Winograd);
@@ -103,10 +105,7 @@ std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
 }
 
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels) {
-  if (g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
-      g.out_width == g.width && g.channels >= 16 && out_channels >= 16)
-    return ConvAlgorithm::Winograd;
-  return ConvAlgorithm::Im2col;
+  return winograd_applicable(g, out_channels) ? ConvAlgorithm::Winograd : ConvAlgorithm::Im2col;
 }
 
 ConvAlgorithm chosen_conv_algorithm(const ConvGeometry& g, int64_t batch, int64_t out_channels) {

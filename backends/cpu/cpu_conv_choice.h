@@ -24,8 +24,8 @@ std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
                                                       int64_t out_channels);
 
 // The rule used when nothing was measured for a shape (from measurements on the machine kind
-// of docs/performance.md): Winograd for 3x3 same convolutions with >= 16 channels on both
-// sides, im2col + SGEMM otherwise.
+// of docs/performance.md): Winograd where winograd_applicable (3x3 same convolutions with >= 16
+// channels on both sides), im2col + SGEMM otherwise; the plain path follows the same rule.
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels);
 
 // The algorithm for this shape, first of: set_conv_algorithm_override(); the environment's

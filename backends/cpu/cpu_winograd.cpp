@@ -366,7 +366,7 @@ void transform_input_tiles(const ConvGeometry& g, const Tiling& t, const float* 
 
 bool winograd_applicable(const ConvGeometry& g, int64_t out_channels) {
   return g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
-         g.out_width == g.width && g.channels >= 32 && out_channels >= 32;
+         g.out_width == g.width && g.channels >= 16 && out_channels >= 16;
 }
 
 size_t winograd_weight_floats(const ConvGeometry& g, int64_t out_channels) {
