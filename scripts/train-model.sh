@@ -1,22 +1,23 @@
 #!/usr/bin/env bash
-# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, stage 2 with grey inputs, evaluation, figures.
+# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, three stage-2 runs, evaluation, figures.
 #
 #   bash scripts/train-model.sh [STEP...]      # no STEP: the shipped model's steps, in order
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
-# stage1 tex-stage2 tex-grey-stage2 eval figures ship. The others train the networks the model
-# card compares it with (docs/model-card.md), by name: stage2 (the paper's network on the
-# procedural set), prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1
-# tex-prior-stage2 shading-stage2 (the same network with the fit's normals as a second input,
-# issue 25 item 4; docs/fit.md, "The fit as the network's input"). The tex-* steps train on
-# synthetic faces painted with albedo textures unwrapped from the training photos (issue 25 item
-# 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is tex-prior-stage2 with the
-# real photos' normal label at a tenth of its weight. Every step is resumable: synth and
-# prepare-real keep what they wrote, training resumes its checkpoint, a finished step is skipped
-# ($WORK/done/STEP), so the model trains over several sittings: set SITTING_MINUTES and run the
-# same command in each. Wall times land in $WORK/timings.tsv for the model card. The trainings'
-# step counts are those the shipped weights got (configs/facetool-v2-{stage1,tex-stage2,
-# tex-grey-stage2}.json; the learning rate is constant, so a run cut there is the run).
+# stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 eval figures ship. The others train the
+# networks the model card compares it with (docs/model-card.md), by name: stage2 (the paper's
+# network on the procedural set), prior-data prior-stage1 prior-stage2 prior-fov14
+# tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's normals as a
+# second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The tex-* steps
+# train on synthetic faces painted with albedo textures unwrapped from the training photos
+# (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
+# tex-prior-stage2 with the real photos' normal label at a tenth of its weight. Every step is
+# resumable: synth and prepare-real keep what they wrote, training resumes its checkpoint, a
+# finished step is skipped ($WORK/done/STEP), so the model trains over several sittings: set
+# SITTING_MINUTES and run the same command in each. Wall times land in $WORK/timings.tsv for the
+# model card. The trainings' step counts are those the shipped weights got
+# (configs/facetool-v2-{stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2}.json; the learning
+# rate is constant, so a run cut there is the run).
 # scripts/train-model-v1.sh reproduces the model shipped before (docs/model-card-v1.md).
 #
 # What differs from v1 (each a starting choice, to be measured against the alternatives):
@@ -66,7 +67,7 @@ TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
 # degrees on held-out synthetic faces, 14.1 against 14.6 on yaleb-dev).
 PRIOR_FOV=14
 LABEL_SMOOTH=${LABEL_SMOOTH:-0}
-DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 eval figures ship"
+DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 eval figures ship"
 ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
@@ -245,11 +246,21 @@ step_tex-stage2() {
 # tex-stage2 with a quarter of each source's photos shown to the network in grey (the config's
 # grey_fraction; docs/training.md), from tex-stage2's weights (a fresh optimiser state): an
 # image-only network that leans on colour answers grey photos (yaleb-dev's, old prints) with
-# other normals. Its weights are the shipped model.
+# other normals.
 step_tex-grey-stage2() {
   write_config tex-grey-stage2 "$WORK/tex-grey-stage2.json"
   seed_from_repository tex-grey-stage2
   train_run "$WORK/tex-grey-stage2.json" "$WORK/tex-grey-stage2" --from "$WORK/tex-stage2/weights.safetensors"
+}
+
+# tex-grey-stage2 with the real photos' normal label (the fit's) weighed 1 instead of 0.2, from
+# its weights (a fresh optimiser state): the image-only network moves towards the fit's shapes,
+# which are better than its own on real faces (docs/model-card.md). Its weights are the shipped
+# model.
+step_tex-normal-stage2() {
+  write_config tex-normal-stage2 "$WORK/tex-normal-stage2.json"
+  seed_from_repository tex-normal-stage2
+  train_run "$WORK/tex-normal-stage2.json" "$WORK/tex-normal-stage2" --from "$WORK/tex-grey-stage2/weights.safetensors"
 }
 
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
@@ -259,7 +270,7 @@ step_tex-grey-stage2() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added
@@ -318,7 +329,7 @@ v1_weights() {
 # samples and the 8 with the largest normal error (docs/model-card.md).
 step_figures() {
   if is_trial; then echo "figures: not in a trial (STEPS or BATCH set): docs/images kept"; return 0; fi
-  model_figures "$WORK/tex-grey-stage2/weights.safetensors" tex-grey-stage2
+  model_figures "$WORK/tex-normal-stage2/weights.safetensors" tex-normal-stage2
   mkdir -p docs/images
   cp "$WORK/figures/example/grace_hopper_512x512/contact_sheet.png" docs/images/example-contact-sheet.png
   cp "$WORK/figures/example/astronaut/contact_sheet.png" docs/images/example-contact-sheet-astronaut.png
@@ -328,9 +339,9 @@ step_figures() {
   done
 }
 
-# tex-grey-stage2's weights into models/ (written under a temporary name, then renamed).
+# tex-normal-stage2's weights into models/ (written under a temporary name, then renamed).
 step_ship() {
-  local weights=$WORK/tex-grey-stage2/weights.safetensors bytes
+  local weights=$WORK/tex-normal-stage2/weights.safetensors bytes
   if is_trial; then echo "ship: not in a trial (STEPS or BATCH set): models/ kept"; return 0; fi
   bytes=$(stat -c %s "$weights")
   [ "$bytes" -le 20000000 ] || die "$weights is $bytes bytes, over the 20 MB limit"

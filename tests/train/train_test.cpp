@@ -151,13 +151,18 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
   }
   // v2 is trained at its framing (docs/photos.md, "Framing"), both stages alike.
   for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json", "facetool-v2-tex-stage2.json",
-                           "facetool-v2-tex-grey-stage2.json"})
+                           "facetool-v2-tex-grey-stage2.json", "facetool-v2-tex-normal-stage2.json"})
     EXPECT_EQ(read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).framing,
               v2_framing()) << name;
-  // The grey run shows a quarter of each source's photos in grey; its plain twin none.
+  // The grey run shows a quarter of each source's photos in grey, and so does the shipped run
+  // after it, which weighs the real photos' normal label 1 instead of 0.2; the plain twin none.
+  for (const char* name : {"facetool-v2-tex-grey-stage2.json", "facetool-v2-tex-normal-stage2.json"})
+    for (const DataSource& s : read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).sources)
+      EXPECT_EQ(s.grey_fraction, 0.25) << name << " " << s.name;
   for (const DataSource& s :
-       read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-grey-stage2.json").sources)
-    EXPECT_EQ(s.grey_fraction, 0.25) << s.name;
+       read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-normal-stage2.json").sources)
+    for (const WeightedTerm& t : s.terms)
+      if (t.name == "normal") EXPECT_EQ(t.weight, s.name == "real" ? 1.0 : 0.2) << s.name;
   for (const DataSource& s :
        read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-stage2.json").sources)
     EXPECT_EQ(s.grey_fraction, 0.0) << s.name;
