@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The shipped model: found without --model by infer, relight, pseudo-label and eval, at most 20 MB, and
-# trained: its reconstruction PSNR on the example photos must reach 15 dB (facetool-v2: 22.8 dB; the
+# trained: its reconstruction PSNR on the example photos must reach 15 dB (facetool-v2: 22.4 dB; the
 # former facetool-v1 at its 64 x 64 framing: 18.7 dB; untrained weights of v1's shape: 4.1 dB).
 # Usage: shipped_model_test.sh FACETOOL SOURCE_DIR
 set -euo pipefail
