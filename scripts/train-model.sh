@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, four stage-2 runs, evaluation, figures.
+# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, five stage-2 runs, evaluation, figures.
 #
 #   bash scripts/train-model.sh [STEP...]      # no STEP: the shipped model's steps, in order
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
-# stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 eval figures ship. The
-# others train the networks the model card compares it with (docs/model-card.md), by name:
-# stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2 prior-fov14
-# tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's normals as a
-# second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The tex-* steps
+# stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 eval
+# figures ship. The others train the networks the model card compares it with
+# (docs/model-card.md), by name: stage2 (the paper's network on the procedural set), prior-data
+# prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the
+# same network with the fit's normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The tex-* steps
 # train on synthetic faces painted with albedo textures unwrapped from the training photos
 # (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
 # tex-prior-stage2 with the real photos' normal label at a tenth of its weight. Every step is
@@ -16,8 +16,8 @@
 # finished step is skipped ($WORK/done/STEP), so the model trains over several sittings: set
 # SITTING_MINUTES and run the same command in each. Wall times land in $WORK/timings.tsv for the
 # model card. The trainings' step counts are those the shipped weights got (configs/facetool-v2-
-# {stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2,tex-normal3-stage2}.json; the learning rate
-# is constant, so a run cut there is the run).
+# {stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2,tex-normal3-stage2,tex-grey50-stage2}.json;
+# the learning rate is constant, so a run cut there is the run).
 # scripts/train-model-v1.sh reproduces the model shipped before (docs/model-card-v1.md).
 #
 # What differs from v1 (each a starting choice, to be measured against the alternatives):
@@ -68,8 +68,8 @@ TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
 PRIOR_FOV=14
 LABEL_SMOOTH=${LABEL_SMOOTH:-0}
 # The run whose weights ship (figures, ship).
-SHIPPED_STAGE=tex-normal3-stage2
-DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 eval figures ship"
+SHIPPED_STAGE=tex-grey50-stage2
+DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 eval figures ship"
 ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
@@ -141,17 +141,21 @@ seed_from_repository() {
   echo "$run: starting from the committed checkpoint in $saved"
 }
 
+# A run RUN (configs/facetool-v2-RUN.json) started from the weights of the run FROM (a fresh
+# optimiser state), or resumed from its checkpoint.
+run_from() {
+  write_config "$1" "$WORK/$1.json"
+  seed_from_repository "$1"
+  train_run "$WORK/$1.json" "$WORK/$1" --from "$WORK/$2/weights.safetensors"
+}
+
 step_stage1() {
   write_config stage1 "$WORK/stage1.json"
   seed_from_repository stage1
   train_run "$WORK/stage1.json" "$WORK/stage1"
 }
 
-step_stage2() {
-  write_config stage2 "$WORK/stage2.json"
-  seed_from_repository stage2
-  train_run "$WORK/stage2.json" "$WORK/stage2" --from "$WORK/stage1/weights.safetensors"
-}
+step_stage2() { run_from stage2 stage1; }
 
 # The fit's normals as the input prior: the synthetic samples' exact landmarks jittered by
 # LANDMARK_NOISE (a detector's error) before the fit; the fit-labelled real samples carry the
@@ -170,11 +174,7 @@ step_prior-stage1() {
   train_run "$WORK/prior-stage1.json" "$WORK/prior-stage1"
 }
 
-step_prior-stage2() {
-  write_config prior-stage2 "$WORK/prior-stage2.json"
-  seed_from_repository prior-stage2
-  train_run "$WORK/prior-stage2.json" "$WORK/prior-stage2" --from "$WORK/prior-stage1/weights.safetensors"
-}
+step_prior-stage2() { run_from prior-stage2 prior-stage1; }
 
 # Albedo textures from the training photos only (never the held-out ones).
 step_textures() {
@@ -219,11 +219,7 @@ prior_stage1_weights() {
   else echo checkpoints/facetool-v2/prior-stage1/checkpoint.safetensors; fi
 }
 
-step_tex-prior-stage2() {
-  write_config tex-prior-stage2 "$WORK/tex-prior-stage2.json"
-  seed_from_repository tex-prior-stage2
-  train_run "$WORK/tex-prior-stage2.json" "$WORK/tex-prior-stage2" --from "$WORK/tex-prior-stage1/weights.safetensors"
-}
+step_tex-prior-stage2() { run_from tex-prior-stage2 tex-prior-stage1; }
 
 # From the textured stage 1 where this work folder has it, else from the prior run's stage 1 (the
 # textured set is the synthetic source of both runs, so stage 2 also teaches what tex-prior-stage1
@@ -239,39 +235,27 @@ step_shading-stage2() {
 # The paper's network (no input prior) on the data of tex-prior-stage2, with its terms, from the
 # paper network's stage 1: the other column of the table (issue 25 item 4). Its normals on real
 # photos come from the image alone, so it needs no face model at run time.
-step_tex-stage2() {
-  write_config tex-stage2 "$WORK/tex-stage2.json"
-  seed_from_repository tex-stage2
-  train_run "$WORK/tex-stage2.json" "$WORK/tex-stage2" --from "$WORK/stage1/weights.safetensors"
-}
+step_tex-stage2() { run_from tex-stage2 stage1; }
 
 # tex-stage2 with a quarter of each source's photos shown to the network in grey (the config's
 # grey_fraction; docs/training.md), from tex-stage2's weights (a fresh optimiser state): an
 # image-only network that leans on colour answers grey photos (yaleb-dev's, old prints) with
 # other normals.
-step_tex-grey-stage2() {
-  write_config tex-grey-stage2 "$WORK/tex-grey-stage2.json"
-  seed_from_repository tex-grey-stage2
-  train_run "$WORK/tex-grey-stage2.json" "$WORK/tex-grey-stage2" --from "$WORK/tex-stage2/weights.safetensors"
-}
+step_tex-grey-stage2() { run_from tex-grey-stage2 tex-stage2; }
 
 # tex-grey-stage2 with the real photos' normal label (the fit's) weighed 1 instead of 0.2, from
 # its weights (a fresh optimiser state): the image-only network moves towards the fit's shapes,
 # which are better than its own on real faces (docs/model-card.md).
-step_tex-normal-stage2() {
-  write_config tex-normal-stage2 "$WORK/tex-normal-stage2.json"
-  seed_from_repository tex-normal-stage2
-  train_run "$WORK/tex-normal-stage2.json" "$WORK/tex-normal-stage2" --from "$WORK/tex-grey-stage2/weights.safetensors"
-}
+step_tex-normal-stage2() { run_from tex-normal-stage2 tex-grey-stage2; }
 
 # The same with that label weighed 3, from tex-normal-stage2's weights (a fresh optimiser state):
-# a stronger pull towards the fit's shapes helps again (docs/model-card.md). Its weights are the
-# shipped model.
-step_tex-normal3-stage2() {
-  write_config tex-normal3-stage2 "$WORK/tex-normal3-stage2.json"
-  seed_from_repository tex-normal3-stage2
-  train_run "$WORK/tex-normal3-stage2.json" "$WORK/tex-normal3-stage2" --from "$WORK/tex-normal-stage2/weights.safetensors"
-}
+# a stronger pull towards the fit's shapes helps again (docs/model-card.md).
+step_tex-normal3-stage2() { run_from tex-normal3-stage2 tex-normal-stage2; }
+
+# The same with half of each source's photos shown in grey instead of a quarter, from
+# tex-normal3-stage2's weights (a fresh optimiser state): grey, hard-lit photos (yaleb-dev's) gain
+# at every light (docs/model-card.md). Its weights are the shipped model.
+step_tex-grey50-stage2() { run_from tex-grey50-stage2 tex-normal3-stage2; }
 
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
 # synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
@@ -280,7 +264,7 @@ step_tex-normal3-stage2() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added

@@ -152,18 +152,21 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
   // v2 is trained at its framing (docs/photos.md, "Framing"), both stages alike.
   for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json", "facetool-v2-tex-stage2.json",
                            "facetool-v2-tex-grey-stage2.json", "facetool-v2-tex-normal-stage2.json",
-                           "facetool-v2-tex-normal3-stage2.json"})
+                           "facetool-v2-tex-normal3-stage2.json", "facetool-v2-tex-grey50-stage2.json"})
     EXPECT_EQ(read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).framing,
               v2_framing()) << name;
   // The grey run shows a quarter of each source's photos in grey, and so do the two runs after
   // it, which weigh the real photos' normal label 1 and then 3 instead of 0.2 (the synthetic
-  // faces' stays 0.2); the plain twin none.
-  for (const char* name : {"facetool-v2-tex-grey-stage2.json", "facetool-v2-tex-normal-stage2.json",
-                           "facetool-v2-tex-normal3-stage2.json"})
+  // faces' stays 0.2); the shipped run after those shows half of them in grey; the plain twin none.
+  for (const auto& [name, grey] : {std::pair<const char*, double>{"facetool-v2-tex-grey-stage2.json", 0.25},
+                                   {"facetool-v2-tex-normal-stage2.json", 0.25},
+                                   {"facetool-v2-tex-normal3-stage2.json", 0.25},
+                                   {"facetool-v2-tex-grey50-stage2.json", 0.5}})
     for (const DataSource& s : read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).sources)
-      EXPECT_EQ(s.grey_fraction, 0.25) << name << " " << s.name;
+      EXPECT_EQ(s.grey_fraction, grey) << name << " " << s.name;
   for (const auto& [name, real_normal] : {std::pair<const char*, double>{"facetool-v2-tex-normal-stage2.json", 1.0},
-                                          {"facetool-v2-tex-normal3-stage2.json", 3.0}})
+                                          {"facetool-v2-tex-normal3-stage2.json", 3.0},
+                                          {"facetool-v2-tex-grey50-stage2.json", 3.0}})
     for (const DataSource& s : read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).sources)
       for (const WeightedTerm& t : s.terms)
         if (t.name == "normal") EXPECT_EQ(t.weight, s.name == "real" ? real_normal : 0.2) << name << " " << s.name;
