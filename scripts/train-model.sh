@@ -5,12 +5,12 @@
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
 # stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 eval
-# figures ship. The others train the networks the model card compares it with
-# (docs/model-card.md), by name: stage2 (the paper's network on the procedural set), prior-data
-# prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the
-# same network with the fit's normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The tex-* steps
-# train on synthetic faces painted with albedo textures unwrapped from the training photos
-# (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
+# figures ship. The others train the networks the model card compares it with (docs/model-card.md),
+# by name: stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2
+# prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's
+# normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The
+# tex-* steps train on synthetic faces painted with albedo textures unwrapped from the training
+# photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
 # tex-prior-stage2 with the real photos' normal label at a tenth of its weight. Every step is
 # resumable: synth and prepare-real keep what they wrote, training resumes its checkpoint, a
 # finished step is skipped ($WORK/done/STEP), so the model trains over several sittings: set
