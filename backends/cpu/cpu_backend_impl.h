@@ -103,6 +103,8 @@ class CpuBackend final : public Backend {
                     const ConvEpilogue& e) override;
   bool channel_affine_leaky_relu(const Tensor& x, const Tensor& scale, const Tensor& shift,
                                  float slope, const Tensor& y) override;
+  // cpu_conv_choice.h's chosen_fused_chunk: the rule or this machine's measured choice
+  int64_t fused_batch_chunk(int64_t bytes_per_image, int64_t batch) override;
   // y = conv(x, w) then the epilogue (nullptr: none) by one given algorithm; false when it does
   // not apply to the shape. For benchmarks and tests that compare the algorithms.
   bool convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, int64_t batch,

@@ -1,6 +1,8 @@
-// The cpu backend's per-shape convolution algorithm: override, environment, cache file, rule.
+// The cpu backend's per-machine choices (convolution algorithm per shape, fused batch chunk): override, environment, cache file, rule.
 #include "backends/cpu/cpu_conv_choice.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -49,23 +51,25 @@ std::string cpu_model() {
   return "unknown_cpu";
 }
 
-// This machine's lines of the cache file: shape key -> algorithm (read once per process).
-const std::map<std::string, ConvAlgorithm>& cached_choices() {
-  static const std::map<std::string, ConvAlgorithm> choices = [] {
-    std::map<std::string, ConvAlgorithm> found;
-    const std::string path = conv_cache_path();
-    if (path.empty()) return found;
-    std::ifstream in(path);
-    std::string line, machine, key, name;
-    const std::string me = conv_machine_name();
-    while (std::getline(in, line)) {
-      std::istringstream fields(line);
-      if (!(fields >> machine >> key >> name) || machine != me) continue;
-      if (const auto algorithm = parse_conv_algorithm(name)) found[key] = *algorithm;
-    }
-    return found;
-  }();
+// This machine's lines of the cache file: key -> value (read once per process).
+const std::map<std::string, std::string>& cached_choices() {
+  static const std::map<std::string, std::string> choices =
+      read_machine_choices(conv_cache_path(), conv_machine_name());
   return choices;
+}
+
+std::optional<int64_t>& chunk_override_slot() {
+  static std::optional<int64_t> slot;
+  return slot;
+}
+
+std::atomic<int64_t>& last_chunk_request() {
+  static std::atomic<int64_t> bytes{0};
+  return bytes;
+}
+
+std::string fused_chunk_key(int64_t bytes_per_image) {
+  return "fused_chunk_" + std::to_string(bytes_per_image) + "B";
 }
 
 }  // namespace
@@ -124,7 +128,9 @@ ConvAlgorithm chosen_conv_algorithm(const ConvGeometry& g, int64_t batch, int64_
   if (from_env && applies(*from_env, g, out_channels)) return *from_env;
   const auto& cached = cached_choices();
   const auto found = cached.find(conv_shape_key(g, batch, out_channels));
-  if (found != cached.end() && applies(found->second, g, out_channels)) return found->second;
+  if (found != cached.end())
+    if (const auto algorithm = parse_conv_algorithm(found->second); algorithm && applies(*algorithm, g, out_channels))
+      return *algorithm;
   return default_conv_algorithm(g, out_channels);
 }
 
@@ -146,13 +152,24 @@ std::string conv_machine_name() {
   return cpu_model() + "/" + std::to_string(parallel_thread_count()) + "threads";
 }
 
-void save_conv_choices(const std::vector<std::pair<std::string, ConvAlgorithm>>& choices) {
+std::map<std::string, std::string> read_machine_choices(const std::string& path, const std::string& machine) {
+  std::map<std::string, std::string> found;
+  if (path.empty()) return found;
+  std::ifstream in(path);
+  std::string line, who, key, value;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    if ((fields >> who >> key >> value) && who == machine) found[key] = value;
+  }
+  return found;
+}
+
+void save_machine_choices(const std::vector<std::pair<std::string, std::string>>& choices) {
   const std::string path = conv_cache_path();
-  check(!path.empty(), "cannot save convolution choices: no cache file (set FACETOOL_CONV_CACHE, ",
+  check(!path.empty(), "cannot save this machine's measured choices: no cache file (set FACETOOL_CONV_CACHE, ",
         "XDG_CACHE_HOME or HOME)");
   const std::string me = conv_machine_name();
-  std::map<std::string, std::string> replaced;
-  for (const auto& [key, algorithm] : choices) replaced[key] = conv_algorithm_name(algorithm);
+  const std::map<std::string, std::string> replaced(choices.begin(), choices.end());
   std::string text;
   {
     std::ifstream in(path);
@@ -163,12 +180,51 @@ void save_conv_choices(const std::vector<std::pair<std::string, ConvAlgorithm>>&
       if (!line.empty()) text += line + "\n";
     }
   }
-  for (const auto& [key, name] : replaced) text += me + " " + key + " " + name + "\n";
+  for (const auto& [key, value] : replaced) text += me + " " + key + " " + value + "\n";
   std::error_code error;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), error);
-  check(!error, "cannot create the directory of the convolution cache ", path, ": ",
+  check(!error, "cannot create the directory of the measured-choices cache ", path, ": ",
         error.message(), " (set FACETOOL_CONV_CACHE to a writable file)");
   write_text_atomically(path, text);
+}
+
+void save_conv_choices(const std::vector<std::pair<std::string, ConvAlgorithm>>& choices) {
+  std::vector<std::pair<std::string, std::string>> lines;
+  for (const auto& [key, algorithm] : choices) lines.emplace_back(key, conv_algorithm_name(algorithm));
+  save_machine_choices(lines);
+}
+
+int64_t default_fused_chunk(int64_t bytes_per_image, int64_t batch) {
+  return std::clamp<int64_t>(kFusedChunkBytes / std::max<int64_t>(1, bytes_per_image), 1, std::max<int64_t>(1, batch));
+}
+
+int64_t chosen_fused_chunk(int64_t bytes_per_image, int64_t batch) {
+  last_chunk_request().store(bytes_per_image);
+  const int64_t whole = std::max<int64_t>(1, batch);
+  auto images = [&](int64_t n) { return n <= 0 ? whole : std::min(n, whole); };
+  {
+    std::lock_guard<std::mutex> lock(choice_mutex());
+    if (chunk_override_slot()) return images(*chunk_override_slot());
+  }
+  const auto& cached = cached_choices();
+  const auto found = cached.find(fused_chunk_key(bytes_per_image));
+  if (found != cached.end()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(found->second.c_str(), &end, 10);
+    if (end && *end == '\0' && n >= 0) return images(n);
+  }
+  return default_fused_chunk(bytes_per_image, batch);
+}
+
+void set_fused_chunk_override(std::optional<int64_t> images) {
+  std::lock_guard<std::mutex> lock(choice_mutex());
+  chunk_override_slot() = images;
+}
+
+int64_t last_fused_chunk_request() { return last_chunk_request().load(); }
+
+void save_fused_chunk(int64_t bytes_per_image, int64_t images) {
+  save_machine_choices({{fused_chunk_key(bytes_per_image), std::to_string(std::max<int64_t>(0, images))}});
 }
 
 }  // namespace facetool::cpu

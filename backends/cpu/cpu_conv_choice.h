@@ -1,7 +1,8 @@
-// Which forward convolution algorithm the cpu backend's fused path runs for each layer shape.
+// The cpu backend's measured choices per machine: the convolution algorithm per layer shape, the fused forward's batch chunk.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,12 +40,38 @@ void set_conv_algorithm_override(std::optional<ConvAlgorithm> algorithm);
 
 // The per-machine cache: FACETOOL_CONV_CACHE when set (empty: no cache), else
 // $XDG_CACHE_HOME/facetool/conv-algorithms.txt or ~/.cache/facetool/conv-algorithms.txt.
-// Lines are "<machine> <shape key> <algorithm>"; lines of other machines or that do not parse
-// are ignored. The machine is the CPU model and the thread count.
+// Lines are "<machine> <key> <value>": a shape key and its algorithm, or a fused chunk key and
+// its image count; lines of other machines, and values that do not parse, are ignored. The
+// machine is the CPU model and the thread count.
 std::string conv_cache_path();
 std::string conv_machine_name();
-// Records measured winners (replacing this machine's earlier lines for the same shapes) and
-// writes the file atomically; throws facetool::Error naming the file when it cannot.
+// `machine`'s lines of the file at `path` (key -> value; later lines win; no file: none).
+std::map<std::string, std::string> read_machine_choices(const std::string& path, const std::string& machine);
+// Records measured values (replacing this machine's earlier lines for the same keys, keeping
+// every other line) and writes the file atomically; throws facetool::Error naming the file
+// when it cannot. A running process keeps the choices it read at its first lookup.
+void save_machine_choices(const std::vector<std::pair<std::string, std::string>>& choices);
+// save_machine_choices for measured convolution winners.
 void save_conv_choices(const std::vector<std::pair<std::string, ConvAlgorithm>>& choices);
+
+// The fused forward runs a large batch a few images at a time so that activations can stay in
+// cache from layer to layer (PaperNetwork::forward_fused). The rule when nothing was measured:
+// as many images as fit their widest activation (`bytes_per_image`) in kFusedChunkBytes, at least
+// one (measured on the reference machine of docs/performance.md; another CPU may prefer the
+// whole batch: `facetool bench network --save` measures it).
+constexpr int64_t kFusedChunkBytes = int64_t{4} << 20;
+int64_t default_fused_chunk(int64_t bytes_per_image, int64_t batch);
+// The images per chunk for a batch, first of: set_fused_chunk_override(); this machine's
+// measured choice for this activation size (key "fused_chunk_<bytes>B", 0 meaning the whole
+// batch); default_fused_chunk(). Always in [1, batch].
+int64_t chosen_fused_chunk(int64_t bytes_per_image, int64_t batch);
+// Forces the images per chunk (0: the whole batch) for every size (tests, benchmarks); nullopt
+// undoes it.
+void set_fused_chunk_override(std::optional<int64_t> images);
+// The activation size of the latest chosen_fused_chunk() call (0: none yet): what `bench network
+// --save` measures for.
+int64_t last_fused_chunk_request();
+// Records this machine's measured chunk (0: the whole batch) for an activation size.
+void save_fused_chunk(int64_t bytes_per_image, int64_t images);
 
 }  // namespace facetool::cpu

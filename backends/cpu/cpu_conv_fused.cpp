@@ -33,6 +33,10 @@ bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, i
   return false;
 }
 
+int64_t CpuBackend::fused_batch_chunk(int64_t bytes_per_image, int64_t batch) {
+  return chosen_fused_chunk(bytes_per_image, batch);
+}
+
 bool CpuBackend::conv2d_fused(const Tensor& x, const Tensor& w, const Tensor& y,
                               const Conv2dParams& p, const ConvEpilogue& e) {
   ConvGeometry g;

@@ -179,6 +179,11 @@ class Backend {
     return false;
   }
 
+  // How many images of a `batch` a network's fused forward should run at a time when one
+  // image's widest activation takes `bytes_per_image` (so that a chunk's activations can stay in
+  // cache between layers); in [1, batch]. The default: the whole batch.
+  virtual int64_t fused_batch_chunk(int64_t /*bytes_per_image*/, int64_t batch) { return batch < 1 ? 1 : batch; }
+
   // ---- plugin kernels ----
   // Runs `entry` of `kernel` over `work_items` items with `args` (see custom_kernel.h).
   virtual void launch(const CustomKernel& kernel, const std::string& entry, int64_t work_items,

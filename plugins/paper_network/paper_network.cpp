@@ -147,15 +147,14 @@ Tensor concat_batch(const std::vector<Tensor>& parts) {
 }  // namespace
 
 NetworkOutputs PaperNetwork::forward_fused(const Tensor& images) const {
-  // Large batches run a few images at a time: the activations of a chunk stay in cache from
-  // one layer to the next (up to 4 MiB for the widest: 8 images at width 32, 64x64; 3 at 96x96;
-  // one image at the paper's size), instead of streaming the whole batch through memory at every
-  // layer. 4 MiB rather than 2: at 96x96 a chunk of one image ran batch 20 at 8.3-8.6 ms per
-  // image, three at 6.8 (`bench network`, 2026-12-05); at 64x64 both gave 2.9.
+  // Large batches can run a few images at a time, so that the activations of a chunk stay in
+  // cache from one layer to the next; the backend says how many (the cpu backend: as many as
+  // fit 4 MiB of the widest activation unless this machine measured otherwise, `bench network
+  // --save`; docs/performance.md).
   const int64_t widest = static_cast<int64_t>(config_.width) * config_.input_size *
                          config_.input_size * static_cast<int64_t>(sizeof(float));
-  const int64_t chunk = std::max<int64_t>(1, (int64_t{4} << 20) / widest);
   const int64_t batch = images.shape().n();
+  const int64_t chunk = images.backend().fused_batch_chunk(widest, batch);
   if (batch <= chunk) return forward_fused_chunk(images);
   std::vector<Tensor> albedo, normal, visibility, light;
   for (int64_t n0 = 0; n0 < batch; n0 += chunk) {

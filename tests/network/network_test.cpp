@@ -4,8 +4,10 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <random>
 
+#include "backends/cpu/cpu_conv_choice.h"
 #include "core/autograd/functions.h"
 #include "libs/model/network_weights.h"
 #include "core/ops/ops.h"
@@ -154,7 +156,8 @@ TEST(PaperNetwork, FusedTrainingGradientsMatchThePlainPath) {
 }
 
 // The shipped model (models/) gives the same outputs on the fused path as on the plain ops, to
-// float rounding, at batch 1 and 20 (batch 20 runs in chunks of 3 images, the last of 2).
+// float rounding, at batch 1 and 20, with batch 20 run one image at a time, in the rule's chunks
+// of 3 images (the last of 2) and whole.
 TEST(PaperNetwork, ShippedModelFusedEvalMatchesThePlainPath) {
   Backend& be = get_backend("cpu");
   const std::string path = FACETOOL_SHIPPED_MODEL;
@@ -168,20 +171,29 @@ TEST(PaperNetwork, ShippedModelFusedEvalMatchesThePlainPath) {
   // normals (forcing im2col everywhere on the fused path differs from the plain path by as
   // much). The PyTorch parity check allows 1e-3 relative; so does this.
   constexpr double kAtol = 1e-4, kRtol = 1e-3;
-  for (const int64_t batch : {1, 20}) {
+  struct Case {
+    int64_t batch;
+    std::optional<int64_t> chunk;  // images per chunk (0: whole batch); nullopt: the rule
+  };
+  for (const Case& c : {Case{1, std::nullopt}, Case{20, 1}, Case{20, std::nullopt}, Case{20, 0}}) {
+    const int64_t batch = c.batch;
     ag::Variable images(random_tensor(be, Shape{batch, 3, s, s}, 21, 0.0f, 1.0f));
     ops::set_fused_paths_enabled(false);
     NetworkOutputs plain = net->forward(images, false);
     ops::set_fused_paths_enabled(true);
+    cpu::set_fused_chunk_override(c.chunk);
     NetworkOutputs fused = net->forward(images, false);
+    cpu::set_fused_chunk_override(std::nullopt);
+    const std::string where = ", batch " + std::to_string(batch) + ", chunk " +
+                              (c.chunk ? std::to_string(*c.chunk) : std::string("by the rule"));
     EXPECT_TRUE(all_close(fused.albedo.value().to_host(), plain.albedo.value().to_host(), kAtol,
-                          kRtol)) << "albedo, batch " << batch;
+                          kRtol)) << "albedo" << where;
     EXPECT_TRUE(all_close(fused.normal.value().to_host(), plain.normal.value().to_host(), kAtol,
-                          kRtol)) << "normal, batch " << batch;
+                          kRtol)) << "normal" << where;
     EXPECT_TRUE(all_close(fused.visibility.value().to_host(), plain.visibility.value().to_host(),
-                          kAtol, kRtol)) << "visibility, batch " << batch;
+                          kAtol, kRtol)) << "visibility" << where;
     EXPECT_TRUE(all_close(fused.light.value().to_host(), plain.light.value().to_host(), kAtol,
-                          kRtol)) << "light, batch " << batch;
+                          kRtol)) << "light" << where;
   }
 }
 

@@ -5,8 +5,11 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <random>
+#include <set>
 
+#include "backends/cpu/cpu_conv_choice.h"
 #include "core/util/cpu_time.h"
 #include "core/autograd/functions.h"
 #include "core/backend/backend.h"
@@ -49,6 +52,50 @@ Timing time_ms(Backend& be, F&& work) {
   const double wall =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return {wall, process_cpu_ms() - cpu0};
+}
+
+// Times the fused forward at `batch` with each candidate number of images per chunk, in
+// alternated rounds, prints one line per candidate and records the fastest for this machine.
+void choose_fused_chunk(int batch, int repeats,
+                        const std::function<Timing()>& forward_ms, std::ostream& out) {
+  // The activation size the network asks the backend about: the first forward records it.
+  forward_ms();
+  const int64_t bytes = cpu::last_fused_chunk_request();
+  if (bytes <= 0 || batch < 2) {
+    out << "fused chunk: nothing to choose (the network asked for no chunk at batch " << batch << ")\n";
+    return;
+  }
+  const int64_t rule = cpu::default_fused_chunk(bytes, batch);
+  std::set<int64_t> distinct;
+  for (int64_t images : {int64_t{1}, rule, 2 * rule, int64_t{batch}}) distinct.insert(std::min<int64_t>(images, batch));
+  const std::vector<int64_t> candidates(distinct.begin(), distinct.end());
+  std::vector<std::vector<double>> wall(candidates.size()), cpu_ms(candidates.size());
+  for (int r = 0; r <= repeats; ++r)
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      cpu::set_fused_chunk_override(candidates[c]);
+      const Timing t = forward_ms();
+      if (r > 0) {
+        wall[c].push_back(t.wall / batch);
+        cpu_ms[c].push_back(t.cpu / batch);
+      }
+    }
+  cpu::set_fused_chunk_override(std::nullopt);
+  size_t best = 0;
+  char line[256];
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (median(wall[c]) < median(wall[best])) best = c;
+    const std::string label = "fused forward, " + std::to_string(candidates[c]) + " a chunk" +
+                              (candidates[c] == rule ? " (rule)" : candidates[c] == batch ? " (whole)" : "");
+    std::snprintf(line, sizeof line, "%-34s %8d %12.2f %10.2f %10s %12.2f\n", label.c_str(), batch,
+                  median(wall[c]), 1000.0 / median(wall[c]), "", median(cpu_ms[c]));
+    out << line;
+  }
+  const int64_t chosen = candidates[best];
+  cpu::save_fused_chunk(bytes, chosen == batch ? 0 : chosen);
+  out << "saved: " << (chosen == batch ? std::string("the whole batch") : std::to_string(chosen) + " image(s)")
+      << " a chunk for " << bytes << "-byte activations, to " << cpu::conv_cache_path() << " (machine "
+      << cpu::conv_machine_name() << ")\n"
+      << std::flush;
 }
 
 }  // namespace
@@ -101,6 +148,16 @@ void run_network_benchmarks(NetworkPlugin& net, Backend& be, double gflop,
                     gflop / (plain_ms / 1000.0), median(plain_cpu));
       out << line << std::flush;
     }
+  }
+  if (options.save_chunk && !options.forward_batches.empty()) {
+    const int batch = *std::max_element(options.forward_batches.begin(), options.forward_batches.end());
+    ag::Variable images(random_images(be, batch, size, 1));
+    choose_fused_chunk(batch, options.repeats, [&] {
+      return time_ms(be, [&] {
+        NetworkOutputs o = net.forward(images, false);
+        o.light.value().to_host();
+      });
+    }, out);
   }
   if (options.train_batch > 0) {
     const int batch = options.train_batch;

@@ -52,6 +52,8 @@ void bench_ops(CommandContext& context, const BenchSettings& settings) {
 // then the paper's (width 128, 128x128).
 void bench_network(CommandContext& context, const BenchSettings& settings) {
   Backend& backend = get_backend(context.backend);
+  check(!settings.save || backend.name() == "cpu", "bench network --save measures the cpu backend's fused ",
+        "batch chunk; run it with --backend cpu (the ", backend.name(), " backend chooses its own)");
   std::vector<NetworkConfig> configs;
   if (settings.width_given || settings.input_size_given)
     configs.push_back(NetworkConfig{settings.width, settings.input_size});
@@ -69,6 +71,7 @@ void bench_network(CommandContext& context, const BenchSettings& settings) {
     options.train_batch = settings.quick ? 2 : settings.train_batch;
     options.repeats = settings.quick ? 1 : settings.repeats;
     options.compare_plain = !settings.quick;
+    options.save_chunk = settings.save;
     run_network_benchmarks(*net, backend, net->forward_flops_per_image() / 1e9, options,
                            std::cout);
   }
@@ -189,8 +192,9 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "infer: the ICT-FaceKit FaceXModel folder, for weights that take the fit's normals as input")
       ("save", po::bool_switch(),
-       "conv: record the fastest algorithm per layer shape in this machine's cache, which the "
-       "fused inference path then uses (FACETOOL_CONV_CACHE names the file)");
+       "conv: record the fastest algorithm per layer shape in this machine's cache; network: time "
+       "the fused forward's batch chunks (one image, the rule's, the whole batch) and record the "
+       "fastest; the fused inference path then uses them (FACETOOL_CONV_CACHE names the file)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
   po::positional_options_description positional;
