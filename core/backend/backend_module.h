@@ -10,7 +10,7 @@
 
 // Bumped whenever Backend or BackendModule changes; modules must match exactly because they are
 // built together with facetool.
-#define FACETOOL_BACKEND_MODULE_API_VERSION 1
+#define FACETOOL_BACKEND_MODULE_API_VERSION 2
 
 namespace facetool {
 
