@@ -1,5 +1,6 @@
 // Batch normalisation on the cpu (PyTorch semantics), one channel per task.
 #include <cmath>
+#include <cstring>
 
 #include "backends/cpu/cpu_backend_impl.h"
 #include "core/util/parallel_for.h"
@@ -118,13 +119,23 @@ void plane_sums(const float* __restrict in, const float* __restrict dy,
   double lanes_dy[kLanes] = {}, lanes_dy_xhat[kLanes] = {};
   const int64_t whole = m / kLanes * kLanes;
   if (a) {
-    for (int64_t i = 0; i < whole; i += kLanes)
+    // The activation's derivative selected for a block of 8 values at once (a vector select,
+    // GCC's vector extension): written per value, GCC compiled it to a compare and a branch per
+    // value, mispredicted about half the time, 16 % of a training step on an AVX2 machine.
+    typedef float Floats8 __attribute__((vector_size(kLanes * sizeof(float))));
+    for (int64_t i = 0; i < whole; i += kLanes) {
+      Floats8 d, act;
+      std::memcpy(&d, dy + i, sizeof d);
+      std::memcpy(&act, a + i, sizeof act);
+      const Floats8 selected = act > 0.0f ? d : d * slope;
+      float g[kLanes];
+      std::memcpy(g, &selected, sizeof g);
       for (int l = 0; l < kLanes; ++l) {
-        const float g = a[i + l] > 0.0f ? dy[i + l] : slope * dy[i + l];
         const float xhat = (in[i + l] - mean) * invstd;
-        lanes_dy[l] += g;
-        lanes_dy_xhat[l] += static_cast<double>(g) * xhat;
+        lanes_dy[l] += g[l];
+        lanes_dy_xhat[l] += static_cast<double>(g[l]) * xhat;
       }
+    }
   } else {
     for (int64_t i = 0; i < whole; i += kLanes)
       for (int l = 0; l < kLanes; ++l) {

@@ -192,14 +192,28 @@ void split_phases(const ConvGeometry& g, const float* plane, int64_t first_row, 
       continue;
     }
     const float* in = plane + iy * g.width;
+    // The groups of four columns wholly inside the row go to the four phases in one pass (a
+    // 4-way de-interleave the compiler vectorises: one pass per phase, each a strided read of
+    // the whole row, was 11 % of a training step); then each phase's rest.
+    float* d0 = row_out;
+    float* d1 = row_out + phase_stride;
+    float* d2 = row_out + 2 * phase_stride;
+    float* d3 = row_out + 3 * phase_stride;
+    const int64_t groups = std::min<int64_t>(g.width / kTile, phase_stride - 1);
+    for (int64_t k = 0; k < groups; ++k) {
+      d0[k + 1] = in[kTile * k];
+      d1[k + 1] = in[kTile * k + 1];
+      d2[k + 1] = in[kTile * k + 2];
+      d3[k + 1] = in[kTile * k + 3];
+    }
     for (int64_t p = 0; p < kTile; ++p) {
       float* dst = row_out + p * phase_stride;  // dst[kk] = in[4 (kk - 1) + p]
       // Entries kk in [1, hi) lie inside the row: 0 <= 4 (kk - 1) + p < width (kk = 0 is
-      // column p - 4 < 0).
+      // column p - 4 < 0); [1, groups] are written above.
       const int64_t hi = std::clamp<int64_t>((g.width - p + kTile - 1) / kTile + 1, 1, phase_stride);
       dst[0] = 0.0f;
-      for (int64_t kk = 1; kk < hi; ++kk) dst[kk] = in[kTile * (kk - 1) + p];
-      std::fill(dst + hi, dst + phase_stride, 0.0f);
+      for (int64_t kk = groups + 1; kk < hi; ++kk) dst[kk] = in[kTile * (kk - 1) + p];
+      std::fill(dst + hi, dst + phase_stride, 0.0f);  // hi >= groups + 1
     }
   }
 }
