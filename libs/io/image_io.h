@@ -47,9 +47,9 @@ inline float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
-// lround(255 * linear_to_srgb(linear)), 0 for NaN: the same byte as computing it, found by a
-// binary search over the 255 linear values where the byte steps (computed once from
-// linear_to_srgb itself), several times faster than the power function per pixel.
+// lround(255 * linear_to_srgb(linear)), 0 for NaN: the same byte as computing it, read from a
+// table of 4,096 bins over [0, 1] and the 255 linear values where the byte steps (computed once
+// from linear_to_srgb itself), several times faster than the power function per pixel.
 uint8_t linear_to_srgb8(float linear);
 // lround(255 * v) of v clamped to [0, 1], 0 for NaN: a value written as a byte as it is (data
 // pictures such as normals as (n + 1) / 2, alpha). The same byte, with the rounding done by a

@@ -1,4 +1,4 @@
-// linear_to_srgb8 (a search over precomputed steps) gives the byte of the direct computation,
+// linear_to_srgb8 (a table of precomputed steps) gives the byte of the direct computation,
 // lround(255 * linear_to_srgb(v)), for every value tried: around each step, at random, and at
 // the special values; unit_to_byte rounds as lround; read_rgb_image's table for 8-bit files gives the floats of the per-value
 // decoding of OpenImageIO's floats.
