@@ -236,6 +236,37 @@ TEST_F(FitCliTest, PseudoLabelFromFitLabelsRealSamples) {
   EXPECT_NE(read_text(at("log")).find("facetool:landmarks"), std::string::npos) << read_text(at("log"));
 }
 
+// pseudo-label --from fit runs its samples on the pool's threads: the files are the bytes of a run
+// on one thread, and a damaged sample among them stops the run with its name.
+TEST_F(FitCliTest, PseudoLabelFromFitWritesTheSameFilesOnOneThreadOrSeveral) {
+  ASSERT_EQ(run("prepare-real " + at("photos") + " -o " + at("real"), at("log")), 0) << read_text(at("log"));
+  std::vector<std::string> samples;
+  for (const auto& entry : fs::directory_iterator(at("real")))
+    if (entry.path().extension() == ".exr") samples.push_back(entry.path().string());
+  ASSERT_EQ(samples.size(), 2u) << read_text(at("log"));
+  for (int copy = 0; copy < 4; ++copy)  // six samples, so that each thread gets several
+    fs::copy_file(samples[copy % 2], at("real/sample_copy" + std::to_string(copy) + ".exr"));
+  const std::string args = "pseudo-label --from fit --face-model " + model_ + " --directions 64 " + at("real") + "/*.exr -o ";
+  ::setenv("FACETOOL_NUM_THREADS", "1", 1);
+  const int one = run(args + at("one"), at("log"));
+  ::unsetenv("FACETOOL_NUM_THREADS");
+  ASSERT_EQ(one, 0) << read_text(at("log"));
+  ::setenv("FACETOOL_NUM_THREADS", "3", 1);
+  const int several = run(args + at("several"), at("log"));
+  ::unsetenv("FACETOOL_NUM_THREADS");
+  ASSERT_EQ(several, 0) << read_text(at("log"));
+  int compared = 0;
+  for (const auto& entry : fs::directory_iterator(at("one"))) {
+    if (entry.path().extension() != ".exr") continue;
+    EXPECT_EQ(read_text(entry.path()), read_text(dir_ / "several" / entry.path().filename())) << entry.path().filename();
+    ++compared;
+  }
+  EXPECT_EQ(compared, 6);
+  std::ofstream(at("real/sample_damaged.exr")) << "not an EXR file";
+  EXPECT_EQ(run(args + at("broken"), at("log")), 1);
+  EXPECT_NE(read_text(at("log")).find("sample_damaged.exr"), std::string::npos) << read_text(at("log"));
+}
+
 TEST_F(FitCliTest, SamePersonSharesTheIdentityAcrossPhotos) {
   ASSERT_EQ(run(fit_args() + "--no-visibility --no-contact-sheet --same-person " + at("photos/astronaut.png") + " " +
                     at("photos/grace_hopper_512x512.jpg") + " -o " + at("out"), at("log")), 0)

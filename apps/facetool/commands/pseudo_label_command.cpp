@@ -1,9 +1,11 @@
 // `facetool pseudo-label`: a trained network's albedo, normal, visibility and light written as
 // labels into real face samples, so stage 2 reads them like synthetic ones.
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
@@ -23,6 +25,7 @@
 #include "libs/synth/synth_sample.h"
 #include "core/util/file_checks.h"
 #include "core/util/folder_lock.h"
+#include "core/util/parallel_for.h"
 #include "core/util/progress_bar.h"
 
 namespace po = boost::program_options;
@@ -97,17 +100,33 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
   check_input_folder(out_dir, "-o");
   // One run per output folder (the shards of one sharded run write disjoint names and share it).
   const FolderLock lock(out_dir, "-o", shard_index, shard_count);
-  ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
-  for (const std::string& file : files) {
+  for (const std::string& file : files)
     check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
           "needs the samples of `facetool prepare-real` or `facetool synth` (their facetool:landmarks)");
-    const LayeredImage sample = read_exr(file);
-    const std::string name = fs::path(file).filename().string();
-    write_exr_atomically((fs::path(out_dir) / name).string(),
-                         prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
-                                    : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
-    progress.advance();
-  }
+  // Samples are independent (each its own fit, ray scene and file; the basis and the sampler are
+  // only read), so they run on the pool's threads, one sample per task: the same files as one
+  // after the other. After a failure the other threads start no new sample, and the first error
+  // is reported.
+  ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
+  std::mutex progress_mutex;
+  std::atomic<bool> failed{false};
+  parallel_for(static_cast<int64_t>(files.size()), 1, [&](int64_t begin, int64_t end) {
+    for (int64_t k = begin; k < end && !failed.load(); ++k) {
+      try {
+        const std::string& file = files[static_cast<size_t>(k)];
+        const LayeredImage sample = read_exr(file);
+        const std::string name = fs::path(file).filename().string();
+        write_exr_atomically((fs::path(out_dir) / name).string(),
+                             prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
+                                        : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
+      } catch (...) {
+        failed = true;
+        throw;
+      }
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress.advance();
+    }
+  });
   progress.finish();
   std::cerr << "wrote " << files.size() << (prior_only ? " samples with the fit's normals as input prior" : " fit-labelled samples")
             << " to " << out_dir << "\n";
