@@ -194,4 +194,21 @@ void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, in
   if (job.error) std::rethrow_exception(job.error);
 }
 
+void parallel_for_each_item(int64_t n, const std::function<void(int64_t)>& fn) {
+  if (n <= 0) return;
+  std::atomic<int64_t> next{0};
+  std::atomic<bool> failed{false};
+  // One chunk per thread; each claims items until none are left or one has failed.
+  parallel_for(std::min<int64_t>(n, parallel_thread_count()), 1, [&](int64_t, int64_t) {
+    for (int64_t i = next++; i < n && !failed.load(); i = next++) {
+      try {
+        fn(i);
+      } catch (...) {
+        failed = true;
+        throw;
+      }
+    }
+  });
+}
+
 }  // namespace facetool

@@ -20,4 +20,10 @@ int parallel_thread_slot();
 // another parallel_for. The first exception thrown by fn is rethrown here after all chunks end.
 void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& fn);
 
+// Runs fn(i) for every i in [0, n) on the pool's threads, each thread taking the next item when
+// it is done with one: for long, independent items (files), where parallel_for's fixed chunks
+// would leave a thread idle at the end. After an exception no further item starts; the first
+// exception is rethrown once the items already running end. Inline where parallel_for is.
+void parallel_for_each_item(int64_t n, const std::function<void(int64_t)>& fn);
+
 }  // namespace facetool

@@ -1,6 +1,7 @@
 // The thread pool under parallel_for: every index of every call run exactly once, over many
 // short calls back to back and calls far apart (workers that spin, then sleep, and are woken);
-// the first exception reaches the caller; nested calls run inline. CTest runs it again with
+// the first exception reaches the caller; nested calls run inline; parallel_for_each_item hands
+// out items one at a time and starts none after a failure. CTest runs it again with
 // FACETOOL_SPIN_US=0 (sleep at once) and with a spin longer than any gap.
 #include <gtest/gtest.h>
 
@@ -65,6 +66,39 @@ TEST(ParallelFor, TheFirstExceptionReachesTheCallerAfterEveryChunk) {
   std::atomic<int> sum{0};
   parallel_for(100, 1, [&](int64_t begin, int64_t end) { sum += static_cast<int>(end - begin); });
   EXPECT_EQ(sum.load(), 100);
+}
+
+TEST(ParallelForEachItem, RunsEveryItemOnceAndSharesUnevenItemsAmongTheThreads) {
+  constexpr int kItems = 40;
+  std::vector<std::atomic<int>> runs(kItems);
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  parallel_for_each_item(kItems, [&](int64_t i) {
+    ++runs[static_cast<size_t>(i)];
+    // Item 0 is long: the other threads take the rest meanwhile.
+    std::this_thread::sleep_for(std::chrono::milliseconds(i == 0 ? 100 : 1));
+    const std::lock_guard<std::mutex> lock(mutex);
+    threads.insert(std::this_thread::get_id());
+  });
+  for (int i = 0; i < kItems; ++i) EXPECT_EQ(runs[static_cast<size_t>(i)].load(), 1) << "item " << i;
+  EXPECT_EQ(static_cast<int>(threads.size()), std::min(parallel_thread_count(), kItems));
+}
+
+TEST(ParallelForEachItem, AFailureStartsNoFurtherItemAndReachesTheCaller) {
+  constexpr int kItems = 1000;
+  std::atomic<int> started{0};
+  try {
+    parallel_for_each_item(kItems, [&](int64_t i) {
+      ++started;
+      if (i == 3) throw std::runtime_error("item 3");
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "item 3");
+  }
+  // Items 0-3 and at most one more per other thread after the failure.
+  EXPECT_LE(started.load(), 4 + parallel_thread_count());
 }
 
 TEST(ParallelFor, NestedCallsRunInlineOnTheCallingThread) {

@@ -1,6 +1,5 @@
 // `facetool pseudo-label`: a trained network's albedo, normal, visibility and light written as
 // labels into real face samples, so stage 2 reads them like synthetic ones.
-#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -104,28 +103,18 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
     check(fs::path(file).extension() == ".exr", "input '", file, "' is not a sample EXR: pseudo-label --from fit ",
           "needs the samples of `facetool prepare-real` or `facetool synth` (their facetool:landmarks)");
   // Samples are independent (each its own fit, ray scene and file; the basis and the sampler are
-  // only read), so they run on the pool's threads, one sample per task: the same files as one
-  // after the other. After a failure the other threads start no new sample, and the first error
-  // is reported.
+  // only read), so they run on all threads: the same files as one after the other.
   ProgressBar progress("pseudo-label", static_cast<int64_t>(files.size()), "samples");
   std::mutex progress_mutex;
-  std::atomic<bool> failed{false};
-  parallel_for(static_cast<int64_t>(files.size()), 1, [&](int64_t begin, int64_t end) {
-    for (int64_t k = begin; k < end && !failed.load(); ++k) {
-      try {
-        const std::string& file = files[static_cast<size_t>(k)];
-        const LayeredImage sample = read_exr(file);
-        const std::string name = fs::path(file).filename().string();
-        write_exr_atomically((fs::path(out_dir) / name).string(),
-                             prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
-                                        : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
-      } catch (...) {
-        failed = true;
-        throw;
-      }
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      progress.advance();
-    }
+  parallel_for_each_item(static_cast<int64_t>(files.size()), [&](int64_t k) {
+    const std::string& file = files[static_cast<size_t>(k)];
+    const LayeredImage sample = read_exr(file);
+    const std::string name = fs::path(file).filename().string();
+    write_exr_atomically((fs::path(out_dir) / name).string(),
+                         prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
+                                    : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.advance();
   });
   progress.finish();
   std::cerr << "wrote " << files.size() << (prior_only ? " samples with the fit's normals as input prior" : " fit-labelled samples")

@@ -3,12 +3,14 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/fit/fit_options.h"
 #include "core/util/file_checks.h"
 #include "core/util/folder_lock.h"
+#include "core/util/parallel_for.h"
 #include "core/util/progress_bar.h"
 #include "core/util/shard.h"
 #include "libs/fit/albedo_unwrap.h"
@@ -77,14 +79,19 @@ int run_unwrap(CommandContext&, const std::vector<std::string>& args) {
   fs::create_directories(out_dir);
   check_input_folder(out_dir, "-o");
   const FolderLock lock(out_dir, "-o", shard_index, shard_count);
+  for (const std::string& file : mine)
+    check(!same_existing_file((fs::path(out_dir) / fs::path(file).filename()).string(), file), "-o '", out_dir,
+          "' would replace the input '", file, "' with its texture; choose another -o");
+  // Samples are independent (the basis and the frame are only read): all threads, the same files.
   ProgressBar progress("unwrap", static_cast<int64_t>(mine.size()), "samples");
-  for (const std::string& file : mine) {
-    const fs::path target = fs::path(out_dir) / fs::path(file).filename();
-    check(!same_existing_file(target.string(), file), "-o '", out_dir, "' would replace the input '", file,
-          "' with its texture; choose another -o");
-    write_albedo_texture(target.string(), unwrap_albedo(read_exr(file), file, basis, fit.fit, frame));
+  std::mutex progress_mutex;
+  parallel_for_each_item(static_cast<int64_t>(mine.size()), [&](int64_t k) {
+    const std::string& file = mine[static_cast<size_t>(k)];
+    write_albedo_texture((fs::path(out_dir) / fs::path(file).filename()).string(),
+                         unwrap_albedo(read_exr(file), file, basis, fit.fit, frame));
+    const std::lock_guard<std::mutex> lock(progress_mutex);
     progress.advance();
-  }
+  });
   progress.finish();
   std::cerr << "wrote " << mine.size() << " albedo textures (" << size << "x" << size << ") to " << out_dir << "\n";
   return 0;
