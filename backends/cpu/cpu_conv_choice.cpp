@@ -1,4 +1,4 @@
-// The cpu backend's per-machine choices (convolution algorithm per shape, fused batch chunk): override, environment, cache file, rule.
+// The cpu backend's measured choices: convolution algorithm per shape, fused batch chunk.
 #include "backends/cpu/cpu_conv_choice.h"
 
 #include <algorithm>

@@ -193,7 +193,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "infer: the ICT-FaceKit FaceXModel folder, for weights that take the fit's normals as input")
       ("save", po::bool_switch(),
        "conv: record the fastest algorithm per layer shape in this machine's cache; network: time "
-       "the fused forward's batch chunks (one image, the rule's, the whole batch) and record the "
+       "the fused forward's batch chunks (one image, the rule's, twice the rule's, the whole batch) and record the "
        "fastest; the fused inference path then uses them (FACETOOL_CONV_CACHE names the file)");
   po::options_description hidden;
   hidden.add_options()("target", po::value<std::string>(), "what to benchmark");
