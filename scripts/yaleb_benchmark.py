@@ -3,6 +3,7 @@
 
     /usr/bin/python3 scripts/yaleb_benchmark.py [--data DIR] [--cache DIR] COMMAND ...
       ps                                   reference normals, albedo, reliability masks
+      ps-halves                            how far apart PS from alternate halves of the strobes is
       infer  [--facetool BIN] [--model W --name NAME]   a model (as given, padded, --aligned --stretch)
       fit    --fit-bin BIN                 `BIN fit` on the evaluation photos (each alone, padded,
                                            and each subject's as one still head)
@@ -427,6 +428,45 @@ def command_ps(args):
         json.dump({"sign_evidence": evidence, "lights": light_names,
                    "gains": [float(g) for g in gains], "calibration_residuals": history,
                    "subjects": summary}, f, indent=1)
+
+
+def strobe_halves(lights):
+    """Two halves of the strobes (index arrays) that both span all directions: the strobes
+    sorted by their direction's angle about the camera axis, taken alternately."""
+    order = np.argsort(np.arctan2(lights[:, 1], lights[:, 0]), kind="stable")
+    return np.sort(order[0::2]), np.sort(order[1::2])
+
+
+def halves_disagreement(intensity, raw, lights):
+    """PS solved from each half of the strobes (`strobe_halves`): the angles (degrees) between
+    the two solutions where both and the full solution are reliable, and that mask."""
+    full = solve_photometric_stereo(intensity, raw, lights)
+    a, b = (solve_photometric_stereo(intensity[h], raw[h], lights[h]) for h in strobe_halves(lights))
+    mask = full["reliable"] & a["reliable"] & b["reliable"]
+    return angular_error_deg(a["normal"][mask], b["normal"][mask]), mask, full["reliable"]
+
+
+def command_ps_halves(args):
+    """The reference's random error: per subject, how far apart the PS solutions from the two
+    halves of the strobes are, with the gains of `ps`. The full set's random error is about half
+    of that (each half has half the strobes, and the difference of two independent errors is
+    sqrt(2) times either). Systematic errors (subsurface scattering, interreflections) are
+    common to both halves and not measured."""
+    summary_path = os.path.join(args.cache, "ps", "summary.json")
+    if not os.path.exists(summary_path):
+        fail(f"no {summary_path}: run `ps` first")
+    with open(summary_path) as f:
+        gains = np.array(json.load(f)["gains"])
+    means = []
+    for s in subjects(args.data):
+        photos, raw, intensity = load_subject(args.data, s)
+        keep, lights = used_lights(photos)
+        angle, mask, reliable = halves_disagreement(intensity[keep] / gains[:, None, None], raw[keep], lights)
+        means.append(float(angle.mean()))
+        print(f"{s}: the halves' normals {angle.mean():.2f} degrees apart (median {np.median(angle):.2f}) on "
+              f"{100 * mask.sum() / max(1, reliable.sum()):.1f} % of the reliability mask", flush=True)
+    print(f"mean over {len(means)} subjects: {np.mean(means):.2f} degrees apart; the full set's random error "
+          f"about {np.mean(means) / 2:.1f} degrees")
 
 
 # ------------------------------------------------------------------------ evaluation photos
@@ -1001,6 +1041,7 @@ def main():
     parser.add_argument("--cache", default=DEFAULT_CACHE, help="where results go (default build/yaleb)")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("ps", help="photometric-stereo normals, albedo and reliability masks")
+    sub.add_parser("ps-halves", help="the reference's random error: PS from two halves of the strobes compared")
     p = sub.add_parser("infer", help="facetool infer (photo and --aligned) on the evaluation photos")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--model", help="trained weights for infer (default: the shipped model)")
@@ -1041,6 +1082,8 @@ def main():
     args = parser.parse_args()
     if args.command == "ps":
         command_ps(args)
+    elif args.command == "ps-halves":
+        command_ps_halves(args)
     elif args.command == "infer":
         command_infer(args)
     elif args.command == "fit":

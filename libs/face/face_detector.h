@@ -47,6 +47,9 @@ struct DetectedFace {
   // Found (box and landmarks) in the photo brightened for hard light
   // (DetectionOptions::brightened_pass_disagreement).
   bool brightened = false;
+  // The box the kept landmarks were fitted in: "hog" (HOG's, also for a CNN face that HOG boxed
+  // on a second look, DetectionOptions::hog_box_for_cnn_faces) or "cnn" (the CNN's, mapped).
+  std::string landmark_box = "hog";
   double size() const { return std::max(right - left, bottom - top); }
   // How it was found, for reports: the detector, "-turned" when found in a turned photo
   // ("hog", "hog-turned", "cnn", "cnn-turned").
@@ -70,6 +73,11 @@ struct DetectionOptions {
   // The landmark model was trained on HOG boxes: CNN boxes are mapped to that convention first
   // (false: the CNN's own box, for measurements; docs/photos.md, "Landmark boxes").
   bool map_cnn_boxes = true;
+  // A face only the CNN found is looked for again by HOG at the margin cnn_face_hog_margin (below
+  // score_threshold), in a crop around it; when HOG boxes it there, its landmarks are fitted in
+  // that box instead of the mapped CNN box (docs/photos.md, "Landmark boxes").
+  bool hog_box_for_cnn_faces = true;
+  double cnn_face_hog_margin = -1.0;
   // Fit the landmarks a second time in the HOG-convention box derived from the first fit.
   bool refit_landmarks = false;
   // Fit the landmarks also on the mirrored face and average the two fits (the mirrored fit's

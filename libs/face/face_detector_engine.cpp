@@ -17,6 +17,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "libs/face/detection_bands.h"
@@ -298,6 +299,46 @@ dlib::drectangle box_from_landmarks(const Landmarks68& l) {
     hy = std::max(hy, p.y);
   }
   return mapped_box(lx, ly, hx, hy, kLandmarksToHog);
+}
+
+// A HOG box more than this factor larger or smaller than the CNN box mapped to HOG's convention
+// is another reading of the face (on hard-lit photos: the lit half with the background beside
+// it), not its box; one step of HOG's pyramid is 1.2 (docs/photos.md, "Landmark boxes").
+constexpr double kHogBoxMaxSizeRatio = 1.25;
+
+// The box HOG gives a face the CNN found (`cnn_box`, work-image pixels; `mapped` the same box in
+// HOG's convention), looking again at `margin` (below its threshold: at yaw HOG scores the face
+// low but still boxes it the way the landmark model was trained with) in a crop around it,
+// scaled so that the face is about 100 pixels wide: the best-scoring box on the same face and of
+// about the mapped box's size, or none.
+std::optional<dlib::drectangle> hog_box_near(dlib::frontal_face_detector& hog, const dlib::array2d<unsigned char>& grey,
+                                             const ScoredBox& cnn_box, const dlib::drectangle& mapped, double margin) {
+  const double size = cnn_box.size(), grow = 0.5 * size, scale = 100.0 / size;
+  const long x0 = std::max(0L, std::lround(cnn_box.left - grow)), y0 = std::max(0L, std::lround(cnn_box.top - grow));
+  const long x1 = std::min(grey.nc(), std::lround(cnn_box.right + grow));
+  const long y1 = std::min(grey.nr(), std::lround(cnn_box.bottom + grow));
+  if (x1 <= x0 || y1 <= y0) return std::nullopt;
+  dlib::array2d<unsigned char> crop(y1 - y0, x1 - x0);
+  for (long y = y0; y < y1; ++y)
+    for (long x = x0; x < x1; ++x) crop[y - y0][x - x0] = grey[y][x];
+  dlib::array2d<unsigned char> scaled(std::max(1L, std::lround((y1 - y0) * scale)),
+                                      std::max(1L, std::lround((x1 - x0) * scale)));
+  dlib::resize_image(crop, scaled, dlib::interpolate_bilinear());
+  std::vector<dlib::rect_detection> found;
+  hog(scaled, found, margin);
+  std::optional<dlib::drectangle> best;
+  double best_score = -1e300;
+  for (const dlib::rect_detection& d : found) {
+    const ScoredBox b{d.rect.left() / scale + x0, d.rect.top() / scale + y0, (d.rect.right() + 1) / scale + x0,
+                      (d.rect.bottom() + 1) / scale + y0, d.detection_confidence};
+    const double ratio = b.size() / std::max(mapped.width(), mapped.height());
+    if (same_face(b, cnn_box) && ratio <= kHogBoxMaxSizeRatio && ratio >= 1 / kHogBoxMaxSizeRatio &&
+        b.score > best_score) {
+      best_score = b.score;
+      best = dlib::drectangle(b.left, b.top, b.right, b.bottom);
+    }
+  }
+  return best;
 }
 
 Landmarks68 mean_of(const Landmarks68& a, const Landmarks68& b) {
@@ -640,6 +681,7 @@ std::vector<DetectedFace> DlibEngine::detect_pass(const RgbImage& photo, const D
   auto add = [&](const std::vector<Found>& found, const dlib::array2d<unsigned char>& grey,
                  const dlib::point_transform_affine& back, double degrees) {
     const auto landmark_start = Clock::now();
+    double second_look_seconds = 0;
     for (const Found& f : found) {
       if (options.max_faces > 0 && static_cast<int>(faces.size()) >= options.max_faces) break;
       double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300;
@@ -656,8 +698,22 @@ std::vector<DetectedFace> DlibEngine::detect_pass(const RgbImage& photo, const D
                       [&](const ScoredBox& b) { return same_face(b, mapped); }))
         continue;
       DetectedFace face;
-      Landmarks68 landmarks = fit_landmarks(predictor_, grey,
-                                            to_hog_convention(f.box, f.detector, options.map_cnn_boxes), options, face);
+      dlib::drectangle landmark_box = to_hog_convention(f.box, f.detector, options.map_cnn_boxes);
+      face.landmark_box = f.detector;
+      // A face only the CNN found is fitted in HOG's box for it when HOG boxes it at a lower
+      // margin: the landmark model's own box convention (the mapped CNN box puts the points of
+      // turned faces far off: docs/photos.md, "Landmark boxes"). HOG's second look counts as
+      // detection time.
+      if (f.detector == "cnn" && options.hog_box_for_cnn_faces) {
+        const auto look_start = Clock::now();
+        if (const std::optional<dlib::drectangle> hog_box = hog_box_near(
+                hog_.all_levels, grey, f.box, to_hog_convention(f.box, f.detector, true), options.cnn_face_hog_margin)) {
+          landmark_box = *hog_box;
+          face.landmark_box = "hog";
+        }
+        second_look_seconds += seconds_since(look_start);
+      }
+      Landmarks68 landmarks = fit_landmarks(predictor_, grey, landmark_box, options, face);
       if (options.refit_landmarks)
         landmarks = fit_landmarks(predictor_, grey, box_from_landmarks(landmarks), options, face);
       for (int i = 0; i < kLandmarkCount; ++i) {
@@ -675,7 +731,8 @@ std::vector<DetectedFace> DlibEngine::detect_pass(const RgbImage& photo, const D
       faces.push_back(face);
       work_boxes.push_back(mapped);
     }
-    landmark_seconds += seconds_since(landmark_start);
+    landmark_seconds += seconds_since(landmark_start) - second_look_seconds;
+    detection_seconds += second_look_seconds;
   };
 
   // One detector over the upright photo and, while no face of the default size is found, over

@@ -133,7 +133,7 @@ std::string faces_json(const std::string& source, const std::vector<FaceCrop>& c
       << c.face.bottom << "], \"found_by\": \"" << c.face.found_by() << "\", \"found_turned_deg\": "
       << c.face.rotation_deg << ", \"padding_px\": " << c.face.padding << ", \"landmark_disagreement\": "
       << c.face.landmark_disagreement << ", \"landmarks_retried\": " << (c.face.landmarks_retried ? "true" : "false")
-      << ", \"brightened\": " << (c.face.brightened ? "true" : "false")
+      << ", \"brightened\": " << (c.face.brightened ? "true" : "false") << ", \"landmark_box\": \"" << c.face.landmark_box << "\""
       << ",\n     \"photo_to_crop\": [[" << t.a << ", " << -t.b << ", " << t.tx << "], [" << t.b
       << ", " << t.a << ", " << t.ty << "]], \"crop_size\": " << c.alignment.crop_size
       << ",\n     \"landmarks\": [";

@@ -115,6 +115,34 @@ class PhotometricStereo(unittest.TestCase):
         self.assertLess(yb.angular_error_deg(r["normal"][region], self.normal[region]).mean(), 1.0)
 
 
+class StrobeHalves(unittest.TestCase):
+    def test_halves_split_every_strobe_and_span_the_directions(self):
+        lights = yale_like_lights()
+        a, b = yb.strobe_halves(lights)
+        self.assertEqual(sorted(np.concatenate([a, b]).tolist()), list(range(len(lights))))
+        self.assertLessEqual(abs(len(a) - len(b)), 1)
+        for half in (a, b):   # lights from both sides and from above and below in each half
+            self.assertTrue((lights[half, 0] > 0.3).any() and (lights[half, 0] < -0.3).any())
+            self.assertTrue((lights[half, 1] > 0.3).any() and (lights[half, 1] < -0.2).any())
+
+    def test_disagreement_measures_the_noise(self):
+        """Lambertian sphere with Gaussian noise only: the halves' disagreement is about twice
+        the full solution's error against the closed-form normals, and vanishes without noise."""
+        normal, disc, albedo = sphere_scene()
+        lights = yale_like_lights()
+        clean = 300.0 * albedo[None] * np.maximum(0.0, np.einsum("hwc,kc->khw", normal, lights)) * disc[None]
+        angle, mask, _ = yb.halves_disagreement(clean, clean, lights)
+        self.assertGreater(mask.sum(), 1000)
+        self.assertLess(angle.mean(), 0.05)
+        noisy = clean + np.random.default_rng(3).normal(0.0, 6.0, clean.shape) * disc[None]
+        angle, mask, _ = yb.halves_disagreement(noisy, noisy, lights)
+        full = yb.solve_photometric_stereo(noisy, noisy, lights)
+        error = yb.angular_error_deg(full["normal"][mask], normal[mask]).mean()
+        self.assertGreater(error, 0.3)          # the noise is visible in the full solution
+        self.assertGreater(angle.mean() / error, 1.5)
+        self.assertLess(angle.mean() / error, 3.0)
+
+
 class LightConvention(unittest.TestCase):
     def test_yale_azimuth_and_elevation_in_the_camera_frame(self):
         # Hand-computed: a positive azimuth lights the viewer's left (-X), elevation is up (+Y).

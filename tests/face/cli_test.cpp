@@ -70,6 +70,7 @@ TEST_F(PhotoCliTest, InferFindsOneFacePerExampleAndReportsThePhotoWithout) {
     EXPECT_EQ(count(faces, "\"landmark_disagreement\": 0.0"), 1u) << faces;  // agreeing fits (below 0.1)
     EXPECT_EQ(count(faces, "\"landmarks_retried\": false"), 1u) << faces;
     EXPECT_EQ(count(faces, "\"brightened\": false"), 1u) << faces;  // evenly lit: the first look
+    EXPECT_EQ(count(faces, "\"landmark_box\": \"hog\""), 1u) << faces;  // found by HOG: its own box
     for (const char* file : {"albedo.png", "normal.png", "visibility.png", "shading.png",
                              "reconstruction.png", "photo.exr", "contact_sheet.png",
                              "face_0/input.png", "face_0/normal.exr", "face_0/light.json"})

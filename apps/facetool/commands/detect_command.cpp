@@ -35,8 +35,8 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
   options.add_options()
       ("report", po::value<std::string>(), "write a CSV: per face photo, face, detector, score, "
        "box, seconds, the 68 landmarks, how far apart the mirrored landmark fits were, whether "
-       "they were retried and whether the face came from the brightened second look; per photo "
-       "without a face its reason");
+       "they were retried, whether the face came from the brightened second look and whose box "
+       "the landmarks were fitted in (hog or cnn); per photo without a face its reason");
   add_photo_detection_options(options);
   po::options_description hidden;
   hidden.add_options()("inputs", po::value<std::vector<std::string>>(), "photos and folders");
@@ -64,7 +64,7 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
   csv << std::setprecision(7)
       << "photo,face,detector,score,left,top,right,bottom,turned_deg,detect_s,landmark_s,reason";
   for (int i = 0; i < kLandmarkCount; ++i) csv << ",x" << i << ",y" << i;
-  csv << ",landmark_disagreement,landmarks_retried,brightened\n";
+  csv << ",landmark_disagreement,landmarks_retried,brightened,landmark_box\n";
   ProgressBar progress("detect", static_cast<int64_t>(photos.size()), "photos");
   for (const std::string& path : photos) {
     RgbImage image;
@@ -94,7 +94,7 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
           << seconds[0] << "," << seconds[1] << ",";
       for (const Point2& p : f.landmarks) csv << "," << p.x << "," << p.y;
       csv << "," << f.landmark_disagreement << "," << (f.landmarks_retried ? 1 : 0) << "," << (f.brightened ? 1 : 0)
-          << "\n";
+          << "," << f.landmark_box << "\n";
     }
     progress.advance();
   }
