@@ -301,16 +301,19 @@ dlib::drectangle box_from_landmarks(const Landmarks68& l) {
   return mapped_box(lx, ly, hx, hy, kLandmarksToHog);
 }
 
-// A HOG box more than this factor larger or smaller than the CNN box mapped to HOG's convention
-// is another reading of the face (on hard-lit photos: the lit half with the background beside
-// it), not its box; one step of HOG's pyramid is 1.2 (docs/photos.md, "Landmark boxes").
+// A HOG box more than this factor larger or smaller than the CNN box mapped to HOG's convention,
+// or whose centre is further than kHogBoxMaxShift of that box's side from its centre, is another
+// reading of the face (on hard-lit photos the lit half with the background beside it, on rolled
+// faces the top of the head), not its box; one step of HOG's pyramid is 1.2 (docs/photos.md,
+// "Landmark boxes").
 constexpr double kHogBoxMaxSizeRatio = 1.25;
+constexpr double kHogBoxMaxShift = 0.25;
 
 // The box HOG gives a face the CNN found (`cnn_box`, work-image pixels; `mapped` the same box in
 // HOG's convention), looking again at `margin` (below its threshold: at yaw HOG scores the face
 // low but still boxes it the way the landmark model was trained with) in a crop around it,
-// scaled so that the face is about 100 pixels wide: the best-scoring box on the same face and of
-// about the mapped box's size, or none.
+// scaled so that the face is about 100 pixels wide: the best-scoring box on the same face, of
+// about the mapped box's size and place, or none.
 std::optional<dlib::drectangle> hog_box_near(dlib::frontal_face_detector& hog, const dlib::array2d<unsigned char>& grey,
                                              const ScoredBox& cnn_box, const dlib::drectangle& mapped, double margin) {
   const double size = cnn_box.size(), grow = 0.5 * size, scale = 100.0 / size;
@@ -331,9 +334,11 @@ std::optional<dlib::drectangle> hog_box_near(dlib::frontal_face_detector& hog, c
   for (const dlib::rect_detection& d : found) {
     const ScoredBox b{d.rect.left() / scale + x0, d.rect.top() / scale + y0, (d.rect.right() + 1) / scale + x0,
                       (d.rect.bottom() + 1) / scale + y0, d.detection_confidence};
-    const double ratio = b.size() / std::max(mapped.width(), mapped.height());
+    const double side = std::max(mapped.width(), mapped.height()), ratio = b.size() / side;
+    const double shift = std::hypot(0.5 * (b.left + b.right) - dlib::center(mapped).x(),
+                                    0.5 * (b.top + b.bottom) - dlib::center(mapped).y()) / side;
     if (same_face(b, cnn_box) && ratio <= kHogBoxMaxSizeRatio && ratio >= 1 / kHogBoxMaxSizeRatio &&
-        b.score > best_score) {
+        shift <= kHogBoxMaxShift && b.score > best_score) {
       best_score = b.score;
       best = dlib::drectangle(b.left, b.top, b.right, b.bottom);
     }
