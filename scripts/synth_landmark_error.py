@@ -24,6 +24,8 @@ GROSS = 0.15
 
 def read_truth(folder):
     """{file name: (68 x 2 true points in pixels, (roll, pitch, yaw) degrees)} of the samples."""
+    if not os.path.isdir(folder):
+        sys.exit(f"{folder}: no such folder of synth samples")
     truth = {}
     for name in sorted(os.listdir(folder)):
         if not name.endswith(".exr"):
@@ -62,8 +64,15 @@ def main():
         sys.exit(__doc__)
     truth = read_truth(sys.argv[1])
     for report in sys.argv[2:]:
-        with open(report) as f:
-            rows = {os.path.basename(r["photo"]): r for r in csv.DictReader(f) if r["face"] == "0"}
+        try:
+            with open(report) as f:
+                reader = csv.DictReader(f)
+                needed = {"photo", "face", "detector"} | {f"{a}{i}" for a in "xy" for i in range(68)}
+                if not needed <= set(reader.fieldnames or []):
+                    sys.exit(f"{report}: not a `facetool detect --report` CSV (missing columns)")
+                rows = {os.path.basename(r["photo"]): r for r in reader if r["face"] == "0"}
+        except OSError as e:
+            sys.exit(f"{report}: cannot read: {e.strerror}")
         groups = {"all": [], "all, found by the CNN": [], "|yaw| 0-15, roll and pitch within 10": [],
                   "|yaw| 15-30, roll and pitch within 10": []}
         missed = 0

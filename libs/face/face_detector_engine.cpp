@@ -321,22 +321,21 @@ std::optional<dlib::drectangle> hog_box_near(dlib::frontal_face_detector& hog, c
   const long x1 = std::min(grey.nc(), std::lround(cnn_box.right + grow));
   const long y1 = std::min(grey.nr(), std::lround(cnn_box.bottom + grow));
   if (x1 <= x0 || y1 <= y0) return std::nullopt;
-  dlib::array2d<unsigned char> crop(y1 - y0, x1 - x0);
-  for (long y = y0; y < y1; ++y)
-    for (long x = x0; x < x1; ++x) crop[y - y0][x - x0] = grey[y][x];
   dlib::array2d<unsigned char> scaled(std::max(1L, std::lround((y1 - y0) * scale)),
                                       std::max(1L, std::lround((x1 - x0) * scale)));
-  dlib::resize_image(crop, scaled, dlib::interpolate_bilinear());
+  dlib::resize_image(dlib::sub_image(grey, dlib::rectangle(x0, y0, x1 - 1, y1 - 1)), scaled,
+                     dlib::interpolate_bilinear());
   std::vector<dlib::rect_detection> found;
   hog(scaled, found, margin);
+  const double side = std::max(mapped.width(), mapped.height());
+  const dlib::dpoint centre = dlib::center(mapped);
   std::optional<dlib::drectangle> best;
   double best_score = -1e300;
   for (const dlib::rect_detection& d : found) {
     const ScoredBox b{d.rect.left() / scale + x0, d.rect.top() / scale + y0, (d.rect.right() + 1) / scale + x0,
                       (d.rect.bottom() + 1) / scale + y0, d.detection_confidence};
-    const double side = std::max(mapped.width(), mapped.height()), ratio = b.size() / side;
-    const double shift = std::hypot(0.5 * (b.left + b.right) - dlib::center(mapped).x(),
-                                    0.5 * (b.top + b.bottom) - dlib::center(mapped).y()) / side;
+    const double ratio = b.size() / side;
+    const double shift = std::hypot(0.5 * (b.left + b.right) - centre.x(), 0.5 * (b.top + b.bottom) - centre.y()) / side;
     if (same_face(b, cnn_box) && ratio <= kHogBoxMaxSizeRatio && ratio >= 1 / kHogBoxMaxSizeRatio &&
         shift <= kHogBoxMaxShift && b.score > best_score) {
       best_score = b.score;
