@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, five stage-2 runs, evaluation, figures.
+# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, six stage-2 runs, evaluation, figures.
 #
 #   bash scripts/train-model.sh [STEP...]      # no STEP: the shipped model's steps, in order
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
-# stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 eval
-# figures ship. The others train the networks the model card compares it with (docs/model-card.md),
+# stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2
+# tex-relit-stage2 eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
 # by name: stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2
 # prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's
 # normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The
@@ -16,7 +16,8 @@
 # finished step is skipped ($WORK/done/STEP), so the model trains over several sittings: set
 # SITTING_MINUTES and run the same command in each. Wall times land in $WORK/timings.tsv for the
 # model card. The trainings' step counts are those the shipped weights got (configs/facetool-v2-
-# {stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2,tex-normal3-stage2,tex-grey50-stage2}.json;
+# {stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2,tex-normal3-stage2,tex-grey50-stage2,
+# tex-relit-stage2}.json;
 # the learning rate is constant, so a run cut there is the run).
 # scripts/train-model-v1.sh reproduces the model shipped before (docs/model-card-v1.md).
 #
@@ -38,7 +39,7 @@
 # 3 GB), SITTING_MINUTES (a time limit for each training step in this sitting; unset: train to
 # the end); the data's sizes SYNTH_TRAIN (procedural set), SYNTH_TEXTURED, SYNTH_HELDOUT and
 # UTK_LIMIT (about N UTKFace photos spread over the list; the defaults are the shipped model's),
-# LABEL_SMOOTH (the fit labels' --smooth-normals, below); for a trial at small scale STEPS (every
+# LABEL_SMOOTH and LABEL_MASK (the fit labels' --smooth-normals and --label-mask, below); for a trial at small scale STEPS (every
 # run) and BATCH (every source's batch).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -67,9 +68,12 @@ TEXTURE_FRACTION=${TEXTURE_FRACTION:-0.5}
 # degrees on held-out synthetic faces, 14.1 against 14.6 on yaleb-dev).
 PRIOR_FOV=14
 LABEL_SMOOTH=${LABEL_SMOOTH:-0}
+# The labels' mask as the shipped weights' labels had it: the whole fitted region (pseudo-label's
+# default is now the trusted pixels; docs/model-card.md, "The labels' mask").
+LABEL_MASK=${LABEL_MASK:-fitted}
 # The run whose weights ship (figures, ship).
-SHIPPED_STAGE=tex-grey50-stage2
-DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 eval figures ship"
+SHIPPED_STAGE=tex-relit-stage2
+DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 eval figures ship"
 ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
@@ -94,7 +98,8 @@ step_synth() {
 
 # UTKFace photos aligned at the v2 framing, split by v1's held-out rule. Their masks stay the
 # landmark hull: the fit labels' light and albedo are solved where the hull and the fit agree, so
-# fringes of hair on the forehead stay out of the solve (the labels' mask is the fit's).
+# fringes of hair on the forehead stay out of the solve (the training labels' mask is the whole fitted
+# region: LABEL_MASK below).
 step_real() {
   split_utkface
   local part
@@ -110,8 +115,8 @@ step_real() {
 step_fit-labels() {
   local part
   for part in train heldout; do
-    "$FACETOOL" pseudo-label --from fit --smooth-normals "$LABEL_SMOOTH" --face-model "$FACE_MODEL" \
-      "$WORK/real-$part"/sample_*.exr -o "$WORK/real-fit-$part"
+    "$FACETOOL" pseudo-label --from fit --smooth-normals "$LABEL_SMOOTH" --label-mask "$LABEL_MASK" \
+      --face-model "$FACE_MODEL" "$WORK/real-$part"/sample_*.exr -o "$WORK/real-fit-$part"
   done
 }
 
@@ -256,6 +261,8 @@ step_tex-normal3-stage2() { run_from tex-normal3-stage2 tex-normal-stage2; }
 # tex-normal3-stage2's weights (a fresh optimiser state): grey, hard-lit photos (yaleb-dev's) gain
 # at every light (docs/model-card.md). Its weights are the shipped model.
 step_tex-grey50-stage2() { run_from tex-grey50-stage2 tex-normal3-stage2; }
+# Half of the real photos relit by a random one-sided light through their labels (docs/training.md).
+step_tex-relit-stage2() { run_from tex-relit-stage2 tex-grey50-stage2; }
 
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
 # synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
@@ -264,7 +271,7 @@ step_tex-grey50-stage2() { run_from tex-grey50-stage2 tex-normal3-stage2; }
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added

@@ -13,7 +13,7 @@ namespace facetool {
 
 LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& source, const FitBasis& basis,
                                  const PhotoFitOptions& options, const VisibilitySampler& sampler,
-                                 const std::string& label) {
+                                 const std::string& label, LabelMask mask_kind) {
   const LandmarkTarget target = read_sample_landmarks(sample, source);
   const int r = sample.find_channel("R"), g = sample.find_channel("G"), b = sample.find_channel("B");
   check(r >= 0 && g >= 0 && b >= 0, "sample '", source, "' has no R, G, B channels");
@@ -37,7 +37,6 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
   trusted = erode_mask(trusted, sample.width, sample.height);
   const ShadingSolve solve = solve_light_and_albedo(image, rendering.normal, rendering.visibility, trusted,
                                                     sample.width, sample.height);
-  // Albedo where the fit covers the face but the solve had no window: 0 (the mask excludes it).
   std::map<std::string, const float*> planes;
   std::vector<std::string> names;
   auto add = [&](const std::string& name, const float* data) {
@@ -45,8 +44,12 @@ LayeredImage fit_labelled_sample(const LayeredImage& sample, const std::string& 
     planes[name] = data;
   };
   for (int c = 0; c < sample.channel_count(); ++c) add(sample.channel_names[c], sample.plane(c));
+  // The mask the losses use: by default where every label holds, the trusted pixels. Beyond them
+  // the albedo label is 0 (the solve has no pixels there) and the photo may be the fill outside
+  // its edge; the whole fitted region (kFitted) puts about 40 % of its pixels there.
   std::vector<float> mask(plane);
-  for (size_t p = 0; p < plane; ++p) mask[p] = rendering.mask[p] ? 1.0f : 0.0f;
+  for (size_t p = 0; p < plane; ++p)
+    mask[p] = (mask_kind == LabelMask::kTrusted ? trusted[p] : rendering.mask[p]) ? 1.0f : 0.0f;
   add("mask", mask.data());
   const char* albedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
   const char* normal[3] = {"normal.X", "normal.Y", "normal.Z"};

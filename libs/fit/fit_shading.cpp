@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/sh/clamped_cosine.h"
-#include "core/sh/triple_product.h"
 #include "core/util/error.h"
 
 namespace facetool {
@@ -34,19 +32,6 @@ std::vector<double> box_sum(const std::vector<double>& v, int w, int h, int r) {
   return out;
 }
 }  // namespace
-
-std::vector<double> transfer_coefficients(const std::vector<float>& normal, const std::vector<float>& visibility,
-                                          const std::vector<uint8_t>& mask, size_t plane) {
-  const auto& entries = sh::TripleProductTable::get().all_entries();
-  std::vector<double> t(9 * plane, 0.0);
-  for (size_t p = 0; p < plane; ++p) {
-    if (!mask[p]) continue;
-    const sh::Vec3 n{normal[p], normal[plane + p], normal[2 * plane + p]};
-    const sh::ShCoeffs cosine = sh::clamped_cosine_coeffs(n);
-    for (const sh::TripleEntry& e : entries) t[e.i * plane + p] += e.value * visibility[e.j * plane + p] * cosine[e.k];
-  }
-  return t;
-}
 
 ShadingSolve solve_light_and_albedo(const std::vector<float>& image, const std::vector<float>& normal,
                                     const std::vector<float>& visibility, const std::vector<uint8_t>& mask,

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/sh/pixel_transfer.h"
 #include "core/sh/sh_types.h"
 
 namespace facetool {
@@ -26,11 +27,6 @@ struct ShadingSolve {
   std::vector<float> albedo;   // planar [3][width * height], in [0, 1], 0 outside the mask
   double rms_residual = 0;     // RMS of image - rendering over the mask, linear units
 };
-
-// transfer_i(p) = sum_jk T_ijk v_j(p) c_k(n(p)): the renderer's per-pixel coefficients, so that
-// I_c = albedo_c / pi * sum_i L_ci transfer_i (libs/synth/component_renderer.h).
-std::vector<double> transfer_coefficients(const std::vector<float>& normal, const std::vector<float>& visibility,
-                                          const std::vector<uint8_t>& mask, size_t plane);
 
 // `image` planar [3][w*h] linear RGB, `normal` [3], `visibility` [9], `mask` 1 where the fit is
 // trusted. Throws facetool::Error when the mask has fewer than 27 pixels.

@@ -19,12 +19,15 @@ uint64_t mix(uint64_t x) {
 
 }  // namespace
 
+uint64_t row_hash(uint64_t seed, int64_t step, int source, int64_t row) {
+  return mix(mix(mix(mix(seed) ^ static_cast<uint64_t>(step)) ^ static_cast<uint64_t>(source)) ^
+             static_cast<uint64_t>(row));
+}
+
 bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
   if (fraction <= 0) return false;
   if (fraction >= 1) return true;
-  const uint64_t h = mix(mix(mix(mix(seed) ^ static_cast<uint64_t>(step)) ^ static_cast<uint64_t>(source)) ^
-                         static_cast<uint64_t>(row));
-  return static_cast<double>(h >> 11) * 0x1.0p-53 < fraction;
+  return static_cast<double>(row_hash(seed, step, source, row) >> 11) * 0x1.0p-53 < fraction;
 }
 
 Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction,

@@ -7,8 +7,12 @@
 
 namespace facetool {
 
-// Whether row `row` of the batch drawn at `step` for source number `source` is turned grey: a
-// hash of (seed, step, source, row) against `fraction`, so a resumed run greys the same rows.
+// A well-mixed 64-bit hash of (seed, step, source, row): the per-image draws of the training
+// augmentations (this one and libs/train/relit_inputs.h), the same after a resume.
+uint64_t row_hash(uint64_t seed, int64_t step, int source, int64_t row);
+
+// Whether row `row` of the batch drawn at `step` for source number `source` is turned grey:
+// row_hash against `fraction`, so a resumed run greys the same rows.
 bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction);
 
 // `input` ([N, C, H, W], C >= 3: the photo's linear RGB, then any prior channels) with the rows

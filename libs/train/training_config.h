@@ -25,6 +25,10 @@ struct DataSource {
   // Fraction of this source's input photos given to the network in grey (libs/train/grey_inputs.h),
   // so that it does not lean on colour that grey photos lack; the loss targets stay in colour.
   double grey_fraction = 0;
+  // Fraction of this source's labelled photos relit by a random one-sided light through their
+  // labels (libs/train/relit_inputs.h): input and reconstruction target alike, the light label
+  // replaced; before the grey rows are picked. Needs labels (not kind "real").
+  double relight_fraction = 0;
   std::vector<WeightedTerm> terms;
   uint32_t provides() const;  // LossNeeds bits the kind supplies
 };

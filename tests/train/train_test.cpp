@@ -152,7 +152,8 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
   // v2 is trained at its framing (docs/photos.md, "Framing"), both stages alike.
   for (const char* name : {"facetool-v2-stage1.json", "facetool-v2-stage2.json", "facetool-v2-tex-stage2.json",
                            "facetool-v2-tex-grey-stage2.json", "facetool-v2-tex-normal-stage2.json",
-                           "facetool-v2-tex-normal3-stage2.json", "facetool-v2-tex-grey50-stage2.json"})
+                           "facetool-v2-tex-normal3-stage2.json", "facetool-v2-tex-grey50-stage2.json",
+                           "facetool-v2-tex-relit-stage2.json"})
     EXPECT_EQ(read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/" + name).framing,
               v2_framing()) << name;
   // The grey run shows a quarter of each source's photos in grey, and so do the two runs after
@@ -173,6 +174,19 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
   for (const DataSource& s :
        read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-stage2.json").sources)
     EXPECT_EQ(s.grey_fraction, 0.0) << s.name;
+  // The relit run: the half-grey run with half of the real photos relit (the synthetic ones not);
+  // no other run relights.
+  const TrainingConfig relit = read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-relit-stage2.json");
+  const TrainingConfig grey50 = read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-tex-grey50-stage2.json");
+  ASSERT_EQ(relit.sources.size(), grey50.sources.size());
+  for (size_t k = 0; k < relit.sources.size(); ++k) {
+    EXPECT_EQ(relit.sources[k].relight_fraction, relit.sources[k].name == "real" ? 0.5 : 0.0) << relit.sources[k].name;
+    EXPECT_EQ(grey50.sources[k].relight_fraction, 0.0);
+    EXPECT_EQ(relit.sources[k].grey_fraction, grey50.sources[k].grey_fraction);
+    ASSERT_EQ(relit.sources[k].terms.size(), grey50.sources[k].terms.size());
+    for (size_t t = 0; t < relit.sources[k].terms.size(); ++t)
+      EXPECT_EQ(relit.sources[k].terms[t].weight, grey50.sources[k].terms[t].weight) << relit.sources[k].terms[t].name;
+  }
 }
 
 // network.framing must be the samples' framing (their facetool:framing; none is v1): training a
@@ -252,19 +266,19 @@ TEST_F(TrainTest, ResumeIsBitExactOnCpu) {
   EXPECT_NE(fresh->step().total, straight[3].total);
 }
 
-// A source's grey_fraction reaches the network's input: every photo grey changes the first step's
-// losses (the samples are coloured), the terms' targets stay the coloured samples (the albedo term
-// is measured against the same labels either way), and a fraction of 0 is the plain run.
-TEST_F(TrainTest, GreyFractionChangesWhatTheNetworkSees) {
+// The trainer greys (grey_fraction) and relights (relight_fraction) the source's photos when
+// asked: the network and the losses see other images; a fraction of 0 is the plain run to the bit.
+TEST_F(TrainTest, AugmentationFractionsChangeWhatTheNetworkSees) {
   Backend& be = get_backend("cpu");
   const TrainingConfig plain = config(data->path());
-  TrainingConfig grey = plain, none = plain;
-  grey.sources[0].grey_fraction = 1.0;
-  none.sources[0].grey_fraction = 0.0;
-  const StepRecord a = trainer(be, plain)->step(), b = trainer(be, grey)->step(),
-                   c = trainer(be, none)->step();
-  EXPECT_NE(a.total, b.total);
-  EXPECT_EQ(a.total, c.total);
+  const StepRecord a = trainer(be, plain)->step();
+  for (double DataSource::*fraction : {&DataSource::grey_fraction, &DataSource::relight_fraction}) {
+    TrainingConfig on = plain, off = plain;
+    on.sources[0].*fraction = 1.0;
+    off.sources[0].*fraction = 0.0;
+    EXPECT_NE(a.total, trainer(be, on)->step().total);
+    EXPECT_EQ(a.total, trainer(be, off)->step().total);
+  }
 }
 
 TEST_F(TrainTest, CheckpointOfAnotherNetworkIsRefused) {

@@ -92,6 +92,8 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
                           int shard_index, int shard_count, const po::variables_map& values) {
   const bool prior_only = values.count("prior-only") != 0;
   const double noise = values["landmark-noise"].as<double>();
+  const std::string mask_name = values["label-mask"].as<std::string>();
+  const LabelMask mask = mask_name == "fitted" ? LabelMask::kFitted : LabelMask::kTrusted;
   const PhotoFitOptions options = fit_options_from(values);
   const FitBasis basis = FitBasis::load(values["face-model"].as<std::string>());
   const VisibilitySampler sampler(options.direction_count);
@@ -112,7 +114,7 @@ int pseudo_label_from_fit(const std::vector<std::string>& files, const std::stri
     const std::string name = fs::path(file).filename().string();
     write_exr_atomically((fs::path(out_dir) / name).string(),
                          prior_only ? fit_prior_sample(sample, file, basis, options.fit, noise, name_seed(file))
-                                    : fit_labelled_sample(sample, file, basis, options, sampler, "fit"));
+                                    : fit_labelled_sample(sample, file, basis, options, sampler, "fit", mask));
     const std::lock_guard<std::mutex> lock(progress_mutex);
     progress.advance();
   });
@@ -142,6 +144,10 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
       ("face-model", po::value<std::string>()->value_name("DIR"), "--from fit: the ICT-FaceKit FaceXModel folder")
       ("prior-only", "--from fit: keep the samples' labels (synthetic ones, or network labels) and add only the "
        "fit's normals as the network's input prior (channels prior.X/Y/Z; no visibility is cast)")
+      ("label-mask", po::value<std::string>()->default_value("trusted")->value_name("trusted|fitted"),
+       "--from fit: the mask the labelled samples carry: trusted (where every label holds: the fitted face inside "
+       "the sample's own mask, eroded by one pixel) or fitted (the whole fitted face region, beyond the photo's "
+       "edge and the landmark hull, where the albedo label is 0: the shipped model's training labels)")
       ("landmark-noise", po::value<double>()->default_value(0.0)->value_name("F"),
        "--prior-only: move each landmark by a normal deviate of F x the inter-ocular distance in x and y before "
        "fitting (a detector's error, for synthetic samples, whose landmarks are exact; seeded by the file name)")
@@ -166,8 +172,9 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
           "file name, their mask used) or plain face crops (PNG/JPEG decoded from sRGB,\nresized; "
           "written as sample_<n>.exr in input order with a mask of 1 everywhere).\n\nWith --from fit "
           "(samples with crop landmarks: prepare-real's and synth's): the ICT-FaceKit model fitted to each sample's\nlandmarks gives "
-          "the normals, visibility and mask; light and a smooth albedo follow from the\nsample's pixels by "
-          "least squares (docs/fit.md). Every fit-labelled sample also carries the fitted normals as\n"
+          "the normals and visibility; light and a smooth albedo follow from the\nsample's pixels by "
+          "least squares (docs/fit.md); the mask becomes the pixels all of them hold for (the fitted face\n"
+          "inside the sample's own mask, eroded by one pixel; --label-mask).\nEvery fit-labelled sample also carries the fitted normals as "
           "the input prior of a network trained with network.input_prior \"fit_normal\" (channels prior.X/Y/Z);\n"
           "--prior-only adds just those, to synthetic samples (`synth` writes their landmarks) or labelled ones.",
           options, positional, args, values, hidden))
@@ -181,6 +188,10 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
     throw UsageError(std::string("pseudo-label --from fit: give --face-model DIR: ") + kIctFaceKitHint);
   if (from == "fit" && values.count("model")) throw UsageError("pseudo-label: --model is for --from network");
   if (from != "fit" && values.count("prior-only")) throw UsageError("pseudo-label: --prior-only is for --from fit");
+  if (values["label-mask"].as<std::string>() != "trusted" && values["label-mask"].as<std::string>() != "fitted")
+    throw UsageError("pseudo-label: --label-mask must be trusted or fitted; got '" + values["label-mask"].as<std::string>() + "'");
+  if (!values["label-mask"].defaulted() && (from != "fit" || values.count("prior-only")))
+    throw UsageError("pseudo-label: --label-mask is for --from fit without --prior-only");
   if (!values.count("prior-only") && !values["landmark-noise"].defaulted())
     throw UsageError("pseudo-label: --landmark-noise is for --prior-only");
   if (!values.count("images")) throw UsageError("pseudo-label: no inputs given");
