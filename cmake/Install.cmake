@@ -25,7 +25,7 @@ set(FACETOOL_PUBLIC_HEADERS
   core/sh/sh_types.h core/sh/sh_basis.h core/sh/sh_eval.h core/sh/sh_projection.h
   core/sh/sh_rotation.h core/sh/sh_gram.h core/sh/triple_product.h core/sh/clamped_cosine.h
   core/sh/illumination_from_shading.h core/sh/light_clamp.h core/sh/envmap_projection.h
-  core/sh/sphere_samples.h
+  core/sh/sphere_samples.h core/sh/pixel_transfer.h
   core/util/error.h core/util/math_constants.h core/util/atomic_file.h core/util/folder_lock.h)
 # The C++ API (facetool::facetool, docs/api.md): the headers of every library above the core,
 # except those that include a third-party header (OpenImageIO's image_encoding.h and its users);
