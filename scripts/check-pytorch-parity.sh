@@ -26,5 +26,10 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$python" scripts/pytorch_reference.py export-random "$work/random.safetensors" --width 32 --seed 7
 "$facetool" --backend "$backend" infer --aligned --stretch "$work/random.png" --model "$work/random.safetensors" \
-  -o "$work/out" --no-contact-sheet --raw-output "$work/raw.safetensors"
+  -o "$work/out" --no-contact-sheet --raw-output "$work/raw.safetensors" --no-mirror-average
 "$python" scripts/pytorch_reference.py compare "$work/random.safetensors" "$work/raw.safetensors" --seed 7
+# infer's default: each crop beside its mirror image, the answers averaged.
+"$facetool" --backend "$backend" infer --aligned --stretch "$work/random.png" --model "$work/random.safetensors" \
+  -o "$work/mirrored" --no-contact-sheet --raw-output "$work/mirrored.safetensors"
+"$python" scripts/pytorch_reference.py compare "$work/random.safetensors" "$work/mirrored.safetensors" --seed 7 \
+  --mirror-average

@@ -8,9 +8,11 @@
                              (batch 20, 128x128, widths 32 64 128; data already in memory)
   export-random W.safetensors  random weights (including batch-norm statistics) in facetool's
                              format (docs/model-format.md), plus a 128x128 test image W.png
-  compare W.safetensors RAW.safetensors
+  compare W.safetensors RAW.safetensors [--mirror-average]
                              compares PyTorch's eval-mode outputs on W.png with the
                              `--raw-output` of `facetool infer --aligned --stretch W.png --model W.safetensors`
+                             (--no-mirror-average; with --mirror-average, infer's default: the image's
+                             outputs averaged with those of its mirror image seen back through the mirror)
 
 Needs python3 with torch and numpy (Debian: python3-torch); facetool itself does not.
 scripts/check-pytorch-parity.sh runs export-random, facetool infer and compare in one go.
@@ -201,6 +203,18 @@ def compare(args):
     x = torch.from_numpy(image.transpose(2, 0, 1).copy())[None]
     with torch.no_grad():
         expected = dict(zip(["albedo", "normal", "visibility", "light"], net(x)))
+        if args.mirror_average:
+            mirrored = dict(zip(["albedo", "normal", "visibility", "light"], net(torch.flip(x, dims=[3]))))
+            # x -> -x: the normal's x and the SH functions odd in x (x, xy, xz: 3, 4, 7) change sign.
+            normal_sign = torch.tensor([-1.0, 1.0, 1.0]).view(1, 3, 1, 1)
+            sh_sign = torch.ones(9)
+            sh_sign[[3, 4, 7]] = -1.0
+            back = {"albedo": torch.flip(mirrored["albedo"], dims=[3]),
+                    "normal": torch.flip(mirrored["normal"], dims=[3]) * normal_sign,
+                    "visibility": torch.flip(mirrored["visibility"], dims=[3]) * sh_sign.view(1, 9, 1, 1),
+                    "light": mirrored["light"] * sh_sign.repeat(3).view(1, 27)}
+            expected = {k: (expected[k] + back[k]) / 2 for k in expected}
+            expected["normal"] = F.normalize(expected["normal"], dim=1)
     raw = read_safetensors(args.raw)
     worst = 0.0
     for name, tensor in expected.items():
@@ -367,6 +381,7 @@ def main():
     c.add_argument("raw")
     c.add_argument("--seed", type=int, default=1)
     c.add_argument("--tolerance", type=float, default=1e-3)
+    c.add_argument("--mirror-average", action="store_true", help="expect infer's mirror-averaged outputs")
     args = parser.parse_args()
     if args.command == "bench":
         return bench(args)

@@ -1,4 +1,4 @@
-// Decomposer: one eval-mode network pass and one render per batch.
+// Decomposer: one eval-mode network pass (optionally beside the mirrored batch) and one render per batch.
 #include "libs/inference/decomposer.h"
 
 #include <optional>
@@ -6,6 +6,7 @@
 #include "core/backend/backend.h"
 #include "core/util/error.h"
 #include "core/util/stage_timer.h"
+#include "libs/inference/mirror_average.h"
 
 namespace facetool {
 
@@ -18,22 +19,35 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
   check(count > 0 && images.size() == static_cast<size_t>(count) * channels * s * s,
         "decomposer: expected ", count, " images of ", channels, "x", s, "x", s, " values");
   std::optional<StageTimer> timer(std::in_place, "network");
-  ag::Variable input(Tensor::from_host(backend, Shape{count, channels, s, s}, images));
+  const int prior_normal = channels > 3 ? 3 : -1;  // the input prior is a normal map
+  const int batch = mirror_average_ ? 2 * count : count;
+  ag::Variable input(Tensor::from_host(
+      backend, Shape{batch, channels, s, s},
+      mirror_average_ ? with_mirror_images(images, count, channels, s, prior_normal) : images));
   NetworkOutputs out = network_.forward(input, false);
   backend.synchronize();
+  Tensor albedo = out.albedo.value(), normal = out.normal.value();
+  Tensor visibility = out.visibility.value(), light = out.light.value();
+  if (mirror_average_) {
+    const NetworkAnswer both{albedo.to_host(), normal.to_host(), visibility.to_host(), light.to_host()};
+    const NetworkAnswer one = average_with_mirror(both, count, s);
+    albedo = Tensor::from_host(backend, Shape{count, 3, s, s}, one.albedo);
+    normal = Tensor::from_host(backend, Shape{count, 3, s, s}, one.normal);
+    visibility = Tensor::from_host(backend, Shape{count, 9, s, s}, one.visibility);
+    light = Tensor::from_host(backend, Shape{count, 27}, one.light);
+  }
   timer.emplace("render");
-  RenderInputs render_in{out.albedo.value(), out.normal.value(), out.visibility.value(),
-                         out.light.value(), Tensor()};
+  RenderInputs render_in{albedo, normal, visibility, light, Tensor()};
   RenderOutputs render_out;
   renderer_.forward(render_in, render_out);
 
   Decomposition d;
   d.count = count;
   d.size = s;
-  d.albedo = out.albedo.value().to_host();
-  d.normal = out.normal.value().to_host();
-  d.visibility = out.visibility.value().to_host();
-  d.light = out.light.value().to_host();
+  d.albedo = albedo.to_host();
+  d.normal = normal.to_host();
+  d.visibility = visibility.to_host();
+  d.light = light.to_host();
   d.shading = render_out.shading.to_host();
   d.reconstruction = render_out.image.to_host();
   return d;

@@ -27,11 +27,17 @@ class Decomposer {
   // `images`: N crops as planar linear RGB on the host, each followed by the network's input
   // prior when it has one: [N,3+P,S,S] (NetworkPlugin::forward). Runs in eval mode on `backend`.
   Decomposition run(Backend& backend, const std::vector<float>& images, int count);
+  // Whether each crop runs beside its mirror image, the two answers averaged before rendering
+  // (libs/inference/mirror_average.h; on by default: better on every measure of the model card,
+  // at twice the network's work). Off: one plain pass, the network's own answer.
+  void set_mirror_average(bool on) { mirror_average_ = on; }
+  bool mirror_average() const { return mirror_average_; }
   const NetworkPlugin& network() const { return network_; }
 
  private:
   NetworkPlugin& network_;
   RendererPlugin& renderer_;
+  bool mirror_average_ = true;
 };
 
 }  // namespace facetool

@@ -42,14 +42,17 @@ __all__ = [
 _models = {}
 
 
-def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None):
+def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None, mirror_average=True):
     """Loads a decomposition model (a facetool.Model).
 
     weights: a .safetensors file (None: the shipped model, facetool-v2). backend: one of
     facetool.backends() ("cpu", "opencl", ...). renderer: the renderer plugin. landmark_model:
     dlib's 68-point shape predictor (None: Debian libdlib-data's; research use only).
+    mirror_average: run each face crop beside its mirror image and average the two answers, as the
+    facetool program does (False: one network pass per face, half the network's time).
     """
-    return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model)
+    return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model,
+                 mirror_average=mirror_average)
 
 
 def _default_model(backend):

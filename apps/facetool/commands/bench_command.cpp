@@ -41,6 +41,7 @@ struct BenchSettings {
   bool save = false;  // bench conv --save
   std::string model;       // bench infer --model (empty: the shipped model)
   std::string face_model;  // bench infer --face-model: for a model with the fit prior
+  bool mirror_average = true;  // bench infer: as infer, unless --no-mirror-average
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -133,6 +134,7 @@ void bench_infer(CommandContext& context, const BenchSettings& settings) {
       prior.empty() ? nullptr : std::make_shared<const FitBasis>(FitBasis::load(settings.face_model));
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*loaded.network, *renderer);
+  decomposer.set_mirror_average(settings.mirror_average);
   InferBenchOptions options;
   options.photo.framing = loaded.framing;  // as infer does: crops framed as the model was trained
   options.photo.prior_basis = basis.get();
@@ -191,6 +193,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
        "infer: network weights (default: the shipped model)")
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "infer: the ICT-FaceKit FaceXModel folder, for weights that take the fit's normals as input")
+      ("no-mirror-average", "infer: one network pass per face, as infer --no-mirror-average")
       ("save", po::bool_switch(),
        "conv: record the fastest algorithm per layer shape in this machine's cache; network: time "
        "the fused forward's batch chunks (one image, the rule's, twice the rule's, the whole batch) and record the "
@@ -236,6 +239,7 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.save = values["save"].as<bool>();
   if (values.count("model")) settings.model = values["model"].as<std::string>();
   if (values.count("face-model")) settings.face_model = values["face-model"].as<std::string>();
+  settings.mirror_average = values.count("no-mirror-average") == 0;
   if (values["quick"].as<bool>()) {
     settings.quick = true;
     settings.batches = {1};

@@ -11,6 +11,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "apps/facetool/infer/network_loading.h"
 #include "libs/model/default_model.h"
 #include "core/backend/registry.h"
 #include "libs/data/training_sample.h"
@@ -289,6 +290,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
        "merge these shards' outputs (eval --shard i/n -o DIR) into -o: per_image.csv and the "
        "summary, as one unsharded run writes them")
       ("contact-sheet", "also write contact_sheet.png: input, reconstruction, normal, true normal");
+  add_mirror_average_option(options);
   po::variables_map values;
   if (!parse_command_options(
           "eval [--model WEIGHTS] --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
@@ -339,6 +341,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   const std::shared_ptr<NetworkPlugin> network = loaded.network;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
+  apply_mirror_average_option(values, decomposer);
   const int size = network->config().input_size;
   const size_t plane = static_cast<size_t>(size) * size;
   fs::create_directories(out_dir);

@@ -9,6 +9,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/trained_model.h"
+#include "apps/facetool/infer/network_loading.h"
 #include "apps/facetool/fit/fit_options.h"
 #include "libs/fit/fit_labels.h"
 #include "libs/fit/fit_prior.h"
@@ -158,6 +159,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
       ("shard", po::value(&shard)->value_name("i/n")->default_value("0/1"),
        "label only the inputs i, i+n, i+2n, ... (Slurm array jobs; same file names as unsharded)");
   add_fit_options(options);
+  add_mirror_average_option(options);
   po::options_description hidden;
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "inputs");
   po::positional_options_description positional;
@@ -230,6 +232,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   check_takes_photos_alone(*network, model);
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
+  apply_mirror_average_option(values, decomposer);
   fs::create_directories(out_dir);
   check_input_folder(out_dir, "-o");
   // One run per output folder (the shards of one sharded run write disjoint names and share it).

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random) and --no-mirror-average.
 #include "apps/facetool/infer/network_loading.h"
 
 #include "libs/model/default_model.h"
@@ -19,6 +19,17 @@ void add_network_options(po::options_description& options) {
       ("network", po::value<std::string>(), "network plugin (default: the weights' architecture, else paper_network)")
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "the ICT-FaceKit FaceXModel folder: for a model that takes the fit's normals as input (docs/fit.md), and infer --with-fit");
+  add_mirror_average_option(options);
+}
+
+void add_mirror_average_option(po::options_description& options) {
+  options.add_options()
+      ("no-mirror-average", "one network pass per face crop: without it each crop runs beside its mirror image and the "
+       "two answers are averaged (half the network's time; docs/photos.md, \"Mirror averaging\")");
+}
+
+void apply_mirror_average_option(const po::variables_map& values, Decomposer& decomposer) {
+  decomposer.set_mirror_average(values.count("no-mirror-average") == 0);
 }
 
 std::vector<OptionRange> network_option_ranges() {

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight`: --model W (default: the shipped model) or --init random.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random) and --no-mirror-average.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -9,14 +9,20 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "core/backend/backend.h"
+#include "libs/inference/decomposer.h"
 #include "libs/inference/model_loading.h"
 #include "core/plugin/network_plugin.h"
 #include "libs/fit/fit_basis.h"
 
 namespace facetool {
 
-// --model, --init, --seed, --width, --input-size, --network, --face-model.
+// --model, --init, --seed, --width, --input-size, --network, --face-model, --no-mirror-average.
 void add_network_options(boost::program_options::options_description& options);
+
+// --no-mirror-average, and applying it: the commands that run a trained network average each
+// crop's answer with its mirror image's unless told not to (libs/inference/mirror_average.h).
+void add_mirror_average_option(boost::program_options::options_description& options);
+void apply_mirror_average_option(const boost::program_options::variables_map& values, Decomposer& decomposer);
 
 // Valid ranges of --seed, --width and --input-size (for check_option_ranges).
 std::vector<OptionRange> network_option_ranges();
