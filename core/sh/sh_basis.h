@@ -32,6 +32,10 @@ constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
 // Degree l of coefficient index i (0 for i = 0, 1 for 1..3, 2 for 4..8).
 constexpr int sh_band(int i) { return i == 0 ? 0 : (i < 4 ? 1 : 2); }
 
+// The factor coefficient i takes when its function is seen in a left-right mirror (x -> -x):
+// -1 for the functions odd in x (3: x, 4: xy, 7: xz), +1 for the others (tested by quadrature).
+constexpr double mirror_x_sign(int i) { return i == 3 || i == 4 || i == 7 ? -1.0 : 1.0; }
+
 // Y_0..Y_8 at the direction d, which must be unit length (not normalised here: on other
 // vectors the result is the polynomial extension written above).
 ShCoeffs sh_basis(const Vec3& d);

@@ -4,13 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/sh/sh_basis.h"
 #include "core/util/error.h"
 
 namespace facetool {
 namespace {
-
-// SH coefficients odd in x (Y_1^1 ~ x, Y_2^-2 ~ xy, Y_2^1 ~ xz): docs/conventions.md.
-bool odd_in_x(int coefficient) { return coefficient == 3 || coefficient == 4 || coefficient == 7; }
 
 // Plane `src` (S x S) flipped left to right and scaled by `sign`, added into `dst` with weight 1/2,
 // after `dst` was scaled by 1/2.
@@ -39,7 +37,7 @@ std::vector<float> average_maps(const std::vector<float>& both, int count, int p
 
 float keep_sign(int) { return 1.0f; }
 float normal_sign(int channel) { return channel == 0 ? -1.0f : 1.0f; }
-float sh_sign(int coefficient) { return odd_in_x(coefficient) ? -1.0f : 1.0f; }
+float sh_sign(int coefficient) { return static_cast<float>(sh::mirror_x_sign(coefficient)); }
 
 }  // namespace
 

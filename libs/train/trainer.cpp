@@ -7,6 +7,7 @@
 #include "core/autograd/functions.h"
 #include "core/autograd/synced_batch_norm.h"
 #include "libs/train/grey_inputs.h"
+#include "libs/train/mirrored_inputs.h"
 #include "libs/train/relit_inputs.h"
 #include "core/util/math_constants.h"
 
@@ -284,6 +285,7 @@ StepRecord Trainer::step() {
     }
     const int source_index = static_cast<int>(&source - sources_.data());
     const int64_t first_row = parallel ? rank_rows(global_images, comm_->rank(), comm_->size()).first : 0;
+    mirror_some_rows(batch, config_.seed, step_, source_index, source->config->mirror_fraction, first_row);
     relight_some_rows(batch, config_.seed, step_, source_index, source->config->relight_fraction, first_row);
     const Tensor input = grey_some_rows(batch.network_input(), config_.seed, step_, source_index,
                                         source->config->grey_fraction, first_row);

@@ -29,6 +29,9 @@ struct DataSource {
   // labels (libs/train/relit_inputs.h): input and reconstruction target alike, the light label
   // replaced; before the grey rows are picked. Needs labels (not kind "real").
   double relight_fraction = 0;
+  // Fraction of this source's samples seen in a left-right mirror, labels and all
+  // (libs/train/mirrored_inputs.h); before the relit and grey rows are picked.
+  double mirror_fraction = 0;
   std::vector<WeightedTerm> terms;
   uint32_t provides() const;  // LossNeeds bits the kind supplies
 };

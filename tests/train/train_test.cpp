@@ -266,13 +266,15 @@ TEST_F(TrainTest, ResumeIsBitExactOnCpu) {
   EXPECT_NE(fresh->step().total, straight[3].total);
 }
 
-// The trainer greys (grey_fraction) and relights (relight_fraction) the source's photos when
-// asked: the network and the losses see other images; a fraction of 0 is the plain run to the bit.
+// The trainer greys (grey_fraction), relights (relight_fraction) and mirrors (mirror_fraction)
+// the source's photos when asked: the network and the losses see other images; a fraction of 0
+// is the plain run to the bit.
 TEST_F(TrainTest, AugmentationFractionsChangeWhatTheNetworkSees) {
   Backend& be = get_backend("cpu");
   const TrainingConfig plain = config(data->path());
   const StepRecord a = trainer(be, plain)->step();
-  for (double DataSource::*fraction : {&DataSource::grey_fraction, &DataSource::relight_fraction}) {
+  for (double DataSource::*fraction :
+       {&DataSource::grey_fraction, &DataSource::relight_fraction, &DataSource::mirror_fraction}) {
     TrainingConfig on = plain, off = plain;
     on.sources[0].*fraction = 1.0;
     off.sources[0].*fraction = 0.0;
