@@ -2,6 +2,7 @@
 #include "libs/inference/decomposer.h"
 
 #include <optional>
+#include <utility>
 
 #include "core/backend/backend.h"
 #include "core/util/error.h"
@@ -26,15 +27,17 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
       mirror_average_ ? with_mirror_images(images, count, channels, s, prior_normal) : images));
   NetworkOutputs out = network_.forward(input, false);
   backend.synchronize();
+  // The host copies the decomposition returns: the network's own answer, or the average.
+  NetworkAnswer answer{out.albedo.value().to_host(), out.normal.value().to_host(),
+                       out.visibility.value().to_host(), out.light.value().to_host()};
   Tensor albedo = out.albedo.value(), normal = out.normal.value();
   Tensor visibility = out.visibility.value(), light = out.light.value();
   if (mirror_average_) {
-    const NetworkAnswer both{albedo.to_host(), normal.to_host(), visibility.to_host(), light.to_host()};
-    const NetworkAnswer one = average_with_mirror(both, count, s);
-    albedo = Tensor::from_host(backend, Shape{count, 3, s, s}, one.albedo);
-    normal = Tensor::from_host(backend, Shape{count, 3, s, s}, one.normal);
-    visibility = Tensor::from_host(backend, Shape{count, 9, s, s}, one.visibility);
-    light = Tensor::from_host(backend, Shape{count, 27}, one.light);
+    answer = average_with_mirror(answer, count, s);
+    albedo = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.albedo);
+    normal = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.normal);
+    visibility = Tensor::from_host(backend, Shape{count, 9, s, s}, answer.visibility);
+    light = Tensor::from_host(backend, Shape{count, 27}, answer.light);
   }
   timer.emplace("render");
   RenderInputs render_in{albedo, normal, visibility, light, Tensor()};
@@ -44,10 +47,10 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
   Decomposition d;
   d.count = count;
   d.size = s;
-  d.albedo = albedo.to_host();
-  d.normal = normal.to_host();
-  d.visibility = visibility.to_host();
-  d.light = light.to_host();
+  d.albedo = std::move(answer.albedo);
+  d.normal = std::move(answer.normal);
+  d.visibility = std::move(answer.visibility);
+  d.light = std::move(answer.light);
   d.shading = render_out.shading.to_host();
   d.reconstruction = render_out.image.to_host();
   return d;

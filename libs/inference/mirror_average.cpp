@@ -6,19 +6,10 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "libs/image/mirror.h"
 
 namespace facetool {
 namespace {
-
-// Plane `src` (S x S) flipped left to right and scaled by `sign`, added into `dst` with weight 1/2,
-// after `dst` was scaled by 1/2.
-void average_flipped_plane(float* dst, const float* src, int size, float sign) {
-  for (int y = 0; y < size; ++y) {
-    float* d = dst + static_cast<size_t>(y) * size;
-    const float* s = src + static_cast<size_t>(y) * size;
-    for (int x = 0; x < size; ++x) d[x] = 0.5f * d[x] + 0.5f * sign * s[size - 1 - x];
-  }
-}
 
 // The first `count` images' planes averaged with the mirrored planes of the next `count`.
 std::vector<float> average_maps(const std::vector<float>& both, int count, int planes, int size,
@@ -28,10 +19,10 @@ std::vector<float> average_maps(const std::vector<float>& both, int count, int p
   check(both.size() == image * 2 * count, "mirror average: expected ", 2 * count, " maps of ",
         planes, " planes");
   std::vector<float> out(both.begin(), both.begin() + image * count);
+  std::vector<float> back(both.begin() + image * count, both.end());
   for (int n = 0; n < count; ++n)
-    for (int c = 0; c < planes; ++c)
-      average_flipped_plane(out.data() + n * image + c * plane,
-                            both.data() + (count + n) * image + c * plane, size, sign(c));
+    for (int c = 0; c < planes; ++c) mirror_plane(back.data() + n * image + c * plane, size, size, sign(c));
+  for (size_t k = 0; k < out.size(); ++k) out[k] = 0.5f * out[k] + 0.5f * back[k];
   return out;
 }
 
@@ -49,15 +40,10 @@ std::vector<float> with_mirror_images(const std::vector<float>& images, int coun
         channels, " channels");
   std::vector<float> out(images.size() * 2);
   std::copy(images.begin(), images.end(), out.begin());
+  std::copy(images.begin(), images.end(), out.begin() + images.size());
   for (int n = 0; n < count; ++n)
-    for (int c = 0; c < channels; ++c) {
-      const float sign = c == normal_channel ? -1.0f : 1.0f;
-      const float* src = images.data() + n * image + c * plane;
-      float* dst = out.data() + (count + n) * image + c * plane;
-      for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x)
-          dst[static_cast<size_t>(y) * size + x] = sign * src[static_cast<size_t>(y) * size + size - 1 - x];
-    }
+    for (int c = 0; c < channels; ++c)
+      mirror_plane(out.data() + (count + n) * image + c * plane, size, size, c == normal_channel ? -1.0f : 1.0f);
   return out;
 }
 

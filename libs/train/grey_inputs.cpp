@@ -24,10 +24,14 @@ uint64_t row_hash(uint64_t seed, int64_t step, int source, int64_t row) {
              static_cast<uint64_t>(row));
 }
 
-bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
+bool row_drawn(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
   if (fraction <= 0) return false;
   if (fraction >= 1) return true;
   return static_cast<double>(row_hash(seed, step, source, row) >> 11) * 0x1.0p-53 < fraction;
+}
+
+bool grey_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
+  return row_drawn(seed, step, source, row, fraction);
 }
 
 Tensor grey_some_rows(const Tensor& input, uint64_t seed, int64_t step, int source, double fraction,

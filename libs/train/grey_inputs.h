@@ -8,8 +8,12 @@
 namespace facetool {
 
 // A well-mixed 64-bit hash of (seed, step, source, row): the per-image draws of the training
-// augmentations (this one and libs/train/relit_inputs.h), the same after a resume.
+// augmentations (this one, libs/train/relit_inputs.h and mirrored_inputs.h), the same after a resume.
 uint64_t row_hash(uint64_t seed, int64_t step, int source, int64_t row);
+
+// Whether row_hash of these arguments falls below `fraction` (0: never, 1: always): each
+// augmentation's pick of rows, under its own seed (the grey rows' `seed`, the others' salted).
+bool row_drawn(uint64_t seed, int64_t step, int source, int64_t row, double fraction);
 
 // Whether row `row` of the batch drawn at `step` for source number `source` is turned grey:
 // row_hash against `fraction`, so a resumed run greys the same rows.

@@ -5,6 +5,7 @@
 
 #include "core/sh/sh_basis.h"
 #include "core/util/error.h"
+#include "libs/image/mirror.h"
 #include "libs/train/grey_inputs.h"
 
 namespace facetool {
@@ -12,28 +13,17 @@ namespace {
 
 constexpr uint64_t kMirrorSalt = 0x6D6972726F726564ull;  // "mirrored"
 
-// Flips the rows `rows` of the [N, C, H, W] tensor `t` left to right, channel c times sign(c).
+// Mirrors the rows `rows` of the [N, C, H, W] tensor `t`, channel c times sign(c).
 template <typename Sign>
 void flip_rows(Tensor& t, const std::vector<int64_t>& rows, Sign sign) {
   if (!t.defined() || t.numel() == 0) return;
   const Shape& s = t.shape();
   check(s.rank() == 4, "mirrored inputs: expected [N, C, H, W], got ", s.str());
   std::vector<float> values = t.to_host();
-  const int64_t w = s.w(), plane = s.h() * s.w();
+  const int64_t plane = s.h() * s.w();
   for (const int64_t n : rows)
-    for (int64_t c = 0; c < s.c(); ++c) {
-      const float k = static_cast<float>(sign(static_cast<int>(c)));
-      float* p = values.data() + (n * s.c() + c) * plane;
-      for (int64_t y = 0; y < s.h(); ++y) {
-        float* row = p + y * w;
-        for (int64_t x = 0; x < w / 2; ++x) {
-          const float left = row[x];
-          row[x] = k * row[w - 1 - x];
-          row[w - 1 - x] = k * left;
-        }
-        if (w % 2) row[w / 2] *= k;
-      }
-    }
+    for (int64_t c = 0; c < s.c(); ++c)
+      mirror_plane(values.data() + (n * s.c() + c) * plane, s.h(), s.w(), static_cast<float>(sign(static_cast<int>(c))));
   t = Tensor::from_host(t.backend(), s, values);
 }
 
@@ -43,9 +33,7 @@ double normal_sign(int c) { return c == 0 ? -1.0 : 1.0; }
 }  // namespace
 
 bool mirrored_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
-  if (fraction <= 0) return false;
-  if (fraction >= 1) return true;
-  return static_cast<double>(row_hash(seed ^ kMirrorSalt, step, source, row) >> 11) * 0x1.0p-53 < fraction;
+  return row_drawn(seed ^ kMirrorSalt, step, source, row, fraction);
 }
 
 void mirror_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int source, double fraction,

@@ -41,9 +41,7 @@ std::vector<float> feather(const std::vector<uint8_t>& labelled, int64_t w, int6
 }  // namespace
 
 bool relit_row(uint64_t seed, int64_t step, int source, int64_t row, double fraction) {
-  if (fraction <= 0) return false;
-  if (fraction >= 1) return true;
-  return unit_interval(row_hash(seed ^ kRelightSalt, step, source, row)) < fraction;
+  return row_drawn(seed ^ kRelightSalt, step, source, row, fraction);
 }
 
 sh::RgbLight one_sided_light(const sh::Vec3& direction, double ambient) {
