@@ -4,7 +4,8 @@
 # facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
 #   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules>
 #   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  share/facetool/dlib/ (dlib's HOG
-#   face detector decoded at build time: libs/face/CMakeLists.txt)  include/facetool/{core,libs}/...
+#   face detector decoded at build time and its landmark model as plain arrays:
+#   libs/face/CMakeLists.txt)  include/facetool/{core,libs}/...
 #   lib/cmake/facetool/  lib/pkgconfig/facetool.pc
 # The loaders search relative to the executable and to libfacetool_core, so a prefix works
 # wherever it is unpacked (RPATHs are $ORIGIN-relative).
@@ -67,9 +68,12 @@ endif()
 # The shipped model (models/*.safetensors), which infer, relight, pseudo-label and eval load by default.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/ DESTINATION share/facetool/models
         COMPONENT runtime FILES_MATCHING PATTERN "*.safetensors" PATTERN "README.md")
-# dlib's HOG face detector as the build decoded it (libs/face/CMakeLists.txt).
+# dlib's HOG face detector as the build decoded it, and the copy of its landmark model when the
+# build had the model to copy (libs/face/CMakeLists.txt).
 install(FILES ${CMAKE_BINARY_DIR}/share/facetool/dlib/frontal_face_detector.dat
         DESTINATION share/facetool/dlib COMPONENT runtime)
+install(FILES ${CMAKE_BINARY_DIR}/share/facetool/dlib/shape_predictor_68_face_landmarks.copy
+        DESTINATION share/facetool/dlib COMPONENT runtime OPTIONAL)
 
 # The SDK: CMake package (facetool::core, facetool::facetool, facetool_add_plugin,
 # facetool_embed_kernels), pkg-config (facetool: the core; facetool-api: libfacetool).

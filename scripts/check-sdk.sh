@@ -28,7 +28,8 @@ for f in bin/facetool lib/libfacetool_core.so lib/facetool/plugins/sh_renderer.f
          lib/cmake/facetool/facetoolConfig.cmake lib/cmake/facetool/facetoolTargets.cmake \
          lib/pkgconfig/facetool.pc include/facetool/core/plugin/plugin_api.h \
          lib/libfacetool.so include/facetool/libs/photo/photo_pipeline.h \
-         share/facetool/dlib/frontal_face_detector.dat; do
+         share/facetool/dlib/frontal_face_detector.dat \
+         share/facetool/dlib/shape_predictor_68_face_landmarks.copy; do
   [ -e "$prefix/$f" ] || fail "the install lacks $f"
 done
 if grep -q FACETOOL_BUILD_OPENCL:BOOL=ON "$build/CMakeCache.txt"; then

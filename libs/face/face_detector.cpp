@@ -32,19 +32,18 @@ DetectorChoice parse_detector_choice(const std::string& name) {
   fail("unknown face detector '", name, "': use hog, cnn or auto");
 }
 
+namespace {
 
-std::string hog_detector_copy_path() {
+// <program or libfacetool_core folder>/../share/facetool/dlib/<file_name> if it is a file, else "".
+std::string build_copy_path(const char* file_name) {
   for (const std::string& base : {executable_dir(), core_library_dir()}) {
     if (base.empty()) continue;
-    const std::filesystem::path path =
-        std::filesystem::path(base) / ".." / "share" / "facetool" / "dlib" / "frontal_face_detector.dat";
+    const std::filesystem::path path = std::filesystem::path(base) / ".." / "share" / "facetool" / "dlib" / file_name;
     std::error_code error;
     if (std::filesystem::is_regular_file(path, error)) return path.lexically_normal().string();
   }
   return "";
 }
-
-namespace {
 
 bool cpu_runs_avx2_engine() {
 #if defined(FACETOOL_DETECTOR_AVX2_COPY)
@@ -55,6 +54,10 @@ bool cpu_runs_avx2_engine() {
 }
 
 }  // namespace
+
+std::string hog_detector_copy_path() { return build_copy_path("frontal_face_detector.dat"); }
+
+std::string landmark_model_copy_path() { return build_copy_path("shape_predictor_68_face_landmarks.copy"); }
 
 FaceDetector::FaceDetector(const std::string& landmark_model, const std::string& cnn_model, DetectorCode code) {
   const char* forced = std::getenv("FACETOOL_PORTABLE_DETECTOR");

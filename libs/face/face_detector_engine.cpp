@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "libs/face/detection_bands.h"
+#include "libs/face/landmark_model_copy.h"
 #include "core/util/error.h"
 #include "core/util/parallel_for.h"
 #include "core/util/math_constants.h"
@@ -36,6 +37,8 @@
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <dlib/image_transforms.h>
 #include <dlib/serialize.h>
+
+#include "libs/face/landmark_model_dlib.h"
 
 namespace facetool {
 namespace FACETOOL_DETECTOR_CODE {
@@ -133,7 +136,10 @@ DlibEngine::DlibEngine(const std::string& landmark_model, const std::string& cnn
   check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
   StageTimer timer("load models");
   try {
-    dlib::deserialize(landmark_model) >> predictor_;
+    if (const std::optional<LandmarkModelCopy> copy = read_landmark_model_copy(landmark_model_copy_path(), landmark_model))
+      predictor_ = shape_predictor_from_copy(*copy);  // the same model, read faster
+    else
+      dlib::deserialize(landmark_model) >> predictor_;
   } catch (const std::exception& e) {
     fail("cannot read landmark model '", landmark_model, "': ", e.what(),
          " (expected dlib's shape_predictor_68_face_landmarks.dat)");
