@@ -25,7 +25,7 @@ std::string hog_detector_copy_path();
 // The build's copy of dlib's 68-point landmark model as plain arrays (the same folder,
 // shape_predictor_68_face_landmarks.copy, written by libs/face/tools/write_landmark_model.cpp),
 // or "". FaceDetector reads it instead of dlib's file when it was made from that file as it is
-// now (about 0.1 s instead of 0.6 s at every start; libs/face/landmark_model_copy.h).
+// now (about 0.17 s instead of 0.65 s at every start; libs/face/landmark_model_copy.h).
 std::string landmark_model_copy_path();
 
 // Which detector finds the faces: dlib's HOG detector, its CNN (MMOD) detector, or `automatic`:

@@ -1,5 +1,5 @@
 // LandmarkModelCopy: dlib's 68-point shape predictor as plain arrays, and facetool's file of them
-// (read in about a tenth of a second where dlib's own file takes about 0.6 s to decode).
+// (read and made into dlib's predictor in about 0.17 s, where dlib's own file takes 0.65 s).
 #pragma once
 
 #include <cstdint>
