@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, six stage-2 runs, evaluation, figures.
+# Reproduces the shipped model (models/facetool-v2.safetensors) from a fresh clone: data, fit labels, stage 1, six stage-2 runs, the landmark normal head, evaluation, figures.
 #
 #   bash scripts/train-model.sh [STEP...]      # no STEP: the shipped model's steps, in order
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
 # stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2
-# tex-relit-stage2 eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
+# tex-relit-stage2 landmark-normals eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
 # by name: stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2
 # prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's
 # normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The
@@ -72,8 +72,8 @@ LABEL_SMOOTH=${LABEL_SMOOTH:-0}
 # default is now the trusted pixels; docs/model-card.md, "The labels' mask").
 LABEL_MASK=${LABEL_MASK:-fitted}
 # The run whose weights ship (figures, ship).
-SHIPPED_STAGE=tex-relit-stage2
-DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 eval figures ship"
+SHIPPED_STAGE=landmark-normals
+DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 landmark-normals eval figures ship"
 ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
@@ -264,6 +264,16 @@ step_tex-grey50-stage2() { run_from tex-grey50-stage2 tex-normal3-stage2; }
 # Half of the real photos relit by a random one-sided light through their labels (docs/training.md).
 step_tex-relit-stage2() { run_from tex-relit-stage2 tex-grey50-stage2; }
 
+# The landmark normal head (docs/model-card.md, "The landmark normal head"): a ridge regression
+# from each face's landmarks to its normals (the training photos' fit labels and the textured
+# synthetic faces' true normals), added to tex-relit-stage2's weights. Its weights are the
+# shipped model.
+step_landmark-normals() {
+  mkdir -p "$WORK/landmark-normals"
+  "$FACETOOL" landmark-normals --data "$WORK/real-fit-train" "$WORK/synthetic-textured" \
+    --model "$WORK/tex-relit-stage2/weights.safetensors" -o "$WORK/landmark-normals/weights.safetensors"
+}
+
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
 # synthetic (Table 1 form), real (PSNR and SSIM beside the blurred photo's, by group; the normals
 # against the fit's labels), a contact sheet of 24 held-out UTKFace photos (every k-th of the
@@ -271,7 +281,7 @@ step_tex-relit-stage2() { run_from tex-relit-stage2 tex-grey50-stage2; }
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 landmark-normals; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added

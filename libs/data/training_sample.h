@@ -15,6 +15,9 @@ struct TrainingSample {
   int width = 0, height = 0;
   std::vector<float> image, albedo, normal, mask, visibility, light;  // light: 27
   std::vector<float> prior;
+  // facetool:landmarks: 68 (x, y) in the sample's pixels (synth: the landmark vertices
+  // projected; prepare-real: the detector's points mapped into the crop); empty when absent.
+  std::vector<float> landmarks;
   bool labelled = false;
   bool real = false;
 };
@@ -28,6 +31,9 @@ struct TrainingSample {
 // naming the file and the command.
 TrainingSample read_training_sample(const std::string& path, bool need_labels,
                                     const std::string& input_prior = "");
+
+// TrainingSample::landmarks from the file's header alone (empty: the sample has none).
+std::vector<float> read_training_sample_landmarks(const std::string& path);
 
 // Width and height from the file's header.
 void read_training_sample_size(const std::string& path, int& width, int& height);

@@ -10,14 +10,20 @@ namespace facetool {
 void decompose_in_batches(Decomposer& decomposer, Backend& backend, size_t count, int batch,
                           const std::function<void(size_t k, std::vector<float>& inputs)>& load,
                           const std::function<void(size_t first, const Decomposition& d,
-                                                   const std::vector<float>& inputs)>& use) {
+                                                   const std::vector<float>& inputs)>& use,
+                          const std::function<bool(size_t k, std::vector<float>& landmarks)>& landmarks_of) {
   check(batch >= 1, "the batch size must be at least 1 (it is ", batch, ")");
-  std::vector<float> inputs;
+  std::vector<float> inputs, landmarks;
   for (size_t first = 0; first < count; first += static_cast<size_t>(batch)) {
     const size_t n = std::min(count - first, static_cast<size_t>(batch));
     inputs.clear();
-    for (size_t k = first; k < first + n; ++k) load(k, inputs);
-    const Decomposition d = decomposer.run(backend, inputs, static_cast<int>(n));
+    landmarks.clear();
+    bool all_landmarks = static_cast<bool>(landmarks_of);
+    for (size_t k = first; k < first + n; ++k) {
+      load(k, inputs);
+      if (all_landmarks) all_landmarks = landmarks_of(k, landmarks);
+    }
+    const Decomposition d = decomposer.run(backend, inputs, static_cast<int>(n), all_landmarks ? &landmarks : nullptr);
     use(first, d, inputs);
   }
 }
@@ -57,18 +63,26 @@ Decomposition decomposition_images(const Decomposition& d, int first, int count)
 }
 
 Decomposition decompose_all(Decomposer& decomposer, Backend& backend, const std::vector<float>& crops,
-                            int count, int size, int batch) {
+                            int count, int size, int batch, const std::vector<float>* landmarks) {
   const int channels = 3 + input_prior_channels(decomposer.network().config().input_prior);
   const size_t image = static_cast<size_t>(channels) * size * size;
   check(count >= 0 && crops.size() == static_cast<size_t>(count) * image, "decompose_all: ", crops.size(),
         " values are not ", count, " crops of ", channels, "x", size, "x", size);
+  constexpr size_t kPoints = 2 * LandmarkNormals::kLandmarks;
+  check(!landmarks || landmarks->size() == static_cast<size_t>(count) * kPoints, "decompose_all: ",
+        landmarks ? landmarks->size() : 0, " landmark coordinates for ", count, " crops");
   Decomposition all;
   decompose_in_batches(
       decomposer, backend, static_cast<size_t>(count), batch,
       [&](size_t k, std::vector<float>& inputs) {
         inputs.insert(inputs.end(), crops.begin() + k * image, crops.begin() + (k + 1) * image);
       },
-      [&](size_t, const Decomposition& d, const std::vector<float>&) { append_decomposition(all, d); });
+      [&](size_t, const Decomposition& d, const std::vector<float>&) { append_decomposition(all, d); },
+      [&](size_t k, std::vector<float>& points) {
+        if (!landmarks) return false;
+        points.insert(points.end(), landmarks->begin() + k * kPoints, landmarks->begin() + (k + 1) * kPoints);
+        return true;
+      });
   return all;
 }
 

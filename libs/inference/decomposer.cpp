@@ -1,4 +1,4 @@
-// Decomposer: one eval-mode network pass (optionally beside the mirrored batch) and one render per batch.
+// Decomposer: one eval-mode network pass (optionally beside the mirrored batch), the landmark normal head, one render per batch.
 #include "libs/inference/decomposer.h"
 
 #include <optional>
@@ -14,11 +14,15 @@ namespace facetool {
 Decomposer::Decomposer(NetworkPlugin& network, RendererPlugin& renderer)
     : network_(network), renderer_(renderer) {}
 
-Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images, int count) {
+Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images, int count,
+                              const std::vector<float>* landmarks) {
   const int s = network_.config().input_size;
   const int channels = 3 + input_prior_channels(network_.config().input_prior);
   check(count > 0 && images.size() == static_cast<size_t>(count) * channels * s * s,
         "decomposer: expected ", count, " images of ", channels, "x", s, "x", s, " values");
+  constexpr size_t kPoints = 2 * LandmarkNormals::kLandmarks;
+  check(!landmarks || landmarks->size() == static_cast<size_t>(count) * kPoints, "decomposer: expected the ",
+        kPoints, " landmark coordinates of each of ", count, " crops, got ", landmarks ? landmarks->size() : 0);
   std::optional<StageTimer> timer(std::in_place, "network");
   const int prior_normal = channels > 3 ? 3 : -1;  // the input prior is a normal map
   const int batch = mirror_average_ ? 2 * count : count;
@@ -38,6 +42,12 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
     normal = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.normal);
     visibility = Tensor::from_host(backend, Shape{count, 9, s, s}, answer.visibility);
     light = Tensor::from_host(backend, Shape{count, 27}, answer.light);
+  }
+  if (landmark_normals_ && landmarks) {
+    const size_t plane = static_cast<size_t>(s) * s;
+    for (int i = 0; i < count; ++i)
+      landmark_normals_->blend_into(landmarks->data() + i * kPoints, answer.normal.data() + i * 3 * plane);
+    normal = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.normal);
   }
   timer.emplace("render");
   RenderInputs render_in{albedo, normal, visibility, light, Tensor()};

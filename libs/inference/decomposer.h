@@ -5,6 +5,7 @@
 
 #include "core/plugin/network_plugin.h"
 #include "core/plugin/renderer_plugin.h"
+#include "libs/model/landmark_normals.h"
 
 namespace facetool {
 
@@ -26,18 +27,27 @@ class Decomposer {
   Decomposer(NetworkPlugin& network, RendererPlugin& renderer);
   // `images`: N crops as planar linear RGB on the host, each followed by the network's input
   // prior when it has one: [N,3+P,S,S] (NetworkPlugin::forward). Runs in eval mode on `backend`.
-  Decomposition run(Backend& backend, const std::vector<float>& images, int count);
+  // `landmarks` (optional): each crop's 68 landmarks, (x, y) in crop pixels, [N][68][2]; with a
+  // landmark normal head (set_landmark_normals) its normals are blended into the network's
+  // before rendering, so shading and reconstruction follow them.
+  Decomposition run(Backend& backend, const std::vector<float>& images, int count,
+                    const std::vector<float>* landmarks = nullptr);
   // Whether each crop runs beside its mirror image, the two answers averaged before rendering
   // (libs/inference/mirror_average.h; on by default: better on every measure of the model card,
   // at twice the network's work). Off: one plain pass, the network's own answer.
   void set_mirror_average(bool on) { mirror_average_ = on; }
   bool mirror_average() const { return mirror_average_; }
+  // The weights' landmark normal head (libs/model/landmark_normals.h; null: none), used for
+  // the crops run with landmarks. It must outlive the decomposer.
+  void set_landmark_normals(const LandmarkNormals* head) { landmark_normals_ = head; }
+  const LandmarkNormals* landmark_normals() const { return landmark_normals_; }
   const NetworkPlugin& network() const { return network_; }
 
  private:
   NetworkPlugin& network_;
   RendererPlugin& renderer_;
   bool mirror_average_ = true;
+  const LandmarkNormals* landmark_normals_ = nullptr;
 };
 
 }  // namespace facetool

@@ -31,6 +31,10 @@ LoadedNetwork load_network_weights_file(PluginLoader& plugins, Backend& backend,
   out.network->build(backend, header.config);
   load_network_weights(*out.network, weights, path);
   out.framing = header.framing;
+  out.landmark_normals = read_landmark_normals(weights, path);
+  check(!out.landmark_normals || out.landmark_normals->crop_size == header.config.input_size, "weights file '", path,
+        "': its landmark normal head was fitted at ", out.landmark_normals ? out.landmark_normals->crop_size : 0,
+        " pixels, the network takes ", header.config.input_size);
   return out;
 }
 
@@ -50,6 +54,7 @@ DecompositionModel load_decomposition_model(PluginLoader& plugins, Backend& back
   model.network = std::move(loaded.network);
   model.architecture = std::move(loaded.architecture);
   model.framing = loaded.framing;
+  model.landmark_normals = loaded.landmark_normals;
   model.renderer = create_plugin_as<RendererPlugin>(plugins, FACETOOL_PLUGIN_RENDERER, renderer);
   model.input_size = model.network->config().input_size;
   return model;

@@ -12,6 +12,7 @@
 #include "core/plugin/renderer_plugin.h"
 #include "core/util/error.h"
 #include "libs/image/crop_framing.h"
+#include "libs/model/landmark_normals.h"
 
 namespace facetool {
 
@@ -32,6 +33,9 @@ struct LoadedNetwork {
   std::shared_ptr<NetworkPlugin> network;
   std::string architecture;
   CropFraming framing;  // the weights' framing (v1 for random weights and files without one)
+  // The file's landmark normal head (libs/model/landmark_normals.h), or null: give it to the
+  // Decomposer (set_landmark_normals) with the crops' landmarks.
+  std::shared_ptr<const LandmarkNormals> landmark_normals;
 };
 
 // Builds the weights' network on `backend` and loads them. `architecture` (a network plugin's
@@ -52,6 +56,7 @@ struct DecompositionModel {
   std::string weights_path;
   int input_size = 0;  // the crop size the network takes
   CropFraming framing;  // how its crops are framed (the weights' "framing" metadata)
+  std::shared_ptr<const LandmarkNormals> landmark_normals;  // the weights' head, or null
 };
 
 // Loads `weights_path` (empty: the shipped model, libs/model/default_model.h) and the renderer

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/util/error.h"
+#include "libs/model/landmark_normals.h"
 
 namespace facetool {
 namespace {
@@ -106,7 +107,7 @@ void load_network_weights(NetworkPlugin& net, const SafeTensors& file, const std
     expected.insert(name);
   }
   for (const std::string& name : file.names())
-    check(expected.count(name) != 0, "weights file '", path, "' holds tensor '", name,
+    check(expected.count(name) != 0 || is_landmark_normals_tensor(name), "weights file '", path, "' holds tensor '", name,
           "' that this network does not have (another architecture?)");
 }
 

@@ -29,7 +29,8 @@ WeightsHeader read_weights_header(const SafeTensors& file, const std::string& pa
 
 // Copies every parameter and buffer of `net` (already built with the file's configuration)
 // from `file`. Fails, naming the tensor, when one is missing, has another shape or dtype, or when
-// the file holds tensors the network does not have.
+// the file holds tensors the network does not have (a landmark normal head's is not the
+// network's: libs/model/landmark_normals.h reads it).
 void load_network_weights(NetworkPlugin& net, const SafeTensors& file, const std::string& path);
 
 // Writes the network's parameters, buffers and configuration to `path` atomically; the framing

@@ -118,8 +118,14 @@ std::vector<DecomposedPhoto> PhotoDecomposer::decompose_found(std::vector<FoundP
   std::vector<FaceCrop> all;
   for (const FoundPhoto& p : photos) all.insert(all.end(), p.crops.begin(), p.crops.end());
   const std::vector<float> inputs = network_inputs(all, decomposer_.network().config(), options_.prior_basis);
+  std::vector<float> landmarks;  // each crop's, for the landmark normal head
+  for (const FaceCrop& c : all)
+    for (const Point2& p : c.alignment.crop_landmarks) {
+      landmarks.push_back(static_cast<float>(p.x));
+      landmarks.push_back(static_cast<float>(p.y));
+    }
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(all.size()),
-                                        crop_size_, options_.batch);
+                                        crop_size_, options_.batch, &landmarks);
   std::vector<DecomposedPhoto> out;
   int first = 0;
   for (FoundPhoto& p : photos) {

@@ -42,7 +42,8 @@ __all__ = [
 _models = {}
 
 
-def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None, mirror_average=True):
+def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None, mirror_average=True,
+               landmark_normals=True):
     """Loads a decomposition model (a facetool.Model).
 
     weights: a .safetensors file (None: the shipped model, facetool-v2). backend: one of
@@ -50,9 +51,12 @@ def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_mod
     dlib's 68-point shape predictor (None: Debian libdlib-data's; research use only).
     mirror_average: run each face crop beside its mirror image and average the two answers, as the
     facetool program does (False: one network pass per face, half the network's time).
+    landmark_normals: blend the normals of the weights' landmark normal head, if they carry one (the
+    shipped model does), into the network's, as the facetool program does (False: the network's
+    normals alone, as its --no-landmark-normals).
     """
     return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model,
-                 mirror_average=mirror_average)
+                 mirror_average=mirror_average, landmark_normals=landmark_normals)
 
 
 def _default_model(backend):

@@ -22,6 +22,14 @@ cmp -s "$work/default/astronaut/photo.exr" "$work/explicit/astronaut/photo.exr" 
   { echo "FAIL: infer without --model differs from --model $model"; exit 1; }
 [ -s "$work/default/astronaut/contact_sheet.png" ] || { echo "FAIL: no contact sheet"; exit 1; }
 
+# The landmark normal head it carries changes the normals (and only with it: --no-landmark-normals).
+grep -aq '"landmark_normals":"crop ' "$model" || { echo "FAIL: $model carries no landmark normal head"; exit 1; }
+"$facetool" infer "$photos/astronaut.png" --no-landmark-normals -o "$work/network" 2>/dev/null
+cmp -s "$work/default/astronaut/photo.exr" "$work/network/astronaut/photo.exr" &&
+  { echo "FAIL: --no-landmark-normals gives the same photo.exr as the default"; exit 1; }
+cmp -s "$work/default/astronaut/face_0/albedo.exr" "$work/network/astronaut/face_0/albedo.exr" ||
+  { echo "FAIL: the landmark normal head changed the albedo (it blends the normals only)"; exit 1; }
+
 # relight without --model: the light of the other example photo.
 "$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" \
   -o "$work/relit" 2>/dev/null || { echo "FAIL: relight without --model"; exit 1; }

@@ -112,8 +112,12 @@ def test_mirror_average_answers_the_mirrored_photo_with_the_mirrored_answer(phot
     """The default (mirror_average=True) decomposes the photo seen in a mirror into the mirror of
     its decomposition (crop-level normals and albedo, the normal's x negated), up to the landmarks'
     and the resampling's rounding; one pass per face (mirror_average=False) does not, and differs
-    from the default on the photo itself."""
-    single = facetool.load_model(mirror_average=False)
+    from the default on the photo itself. The network's answers alone: the landmark normal head
+    reads the mirrored face's landmarks, which the average does not make symmetric."""
+    network = facetool.load_model(landmark_normals=False)
+    photo = network.decompose(photo.image)
+    model = network
+    single = facetool.load_model(mirror_average=False, landmark_normals=False)
     mirror_image = np.ascontiguousarray(photo.image[:, ::-1])
 
     def mirror_difference(m, original):
@@ -127,6 +131,19 @@ def test_mirror_average_answers_the_mirrored_photo_with_the_mirrored_answer(phot
     averaged, plain = mirror_difference(model, photo), mirror_difference(single, own)
     print("mean |difference| to the mirrored answer (normal, albedo): default", averaged, "one pass", plain)
     assert averaged[0] < 0.5 * plain[0] and averaged[1] < 0.5 * plain[1]
+
+
+@needs_photo_model
+def test_the_landmark_normal_head_changes_the_normals_only(photo):
+    """The shipped weights carry a landmark normal head: the default blends its normals into the
+    network's (docs/model-card.md); landmark_normals=False gives the network's alone. The albedo
+    and the light come from the network either way."""
+    alone = facetool.load_model(landmark_normals=False).decompose(photo.image)
+    a, b = photo.faces[0], alone.faces[0]
+    inside = a.mask > 0.5
+    assert np.degrees(np.arccos(np.clip((a.normal * b.normal).sum(-1), -1, 1)))[inside].mean() > 2.0
+    np.testing.assert_array_equal(a.albedo, b.albedo)
+    np.testing.assert_array_equal(a.light, b.light)
 
 
 @needs_photo_model

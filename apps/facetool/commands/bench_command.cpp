@@ -134,6 +134,7 @@ void bench_infer(CommandContext& context, const BenchSettings& settings) {
       prior.empty() ? nullptr : std::make_shared<const FitBasis>(FitBasis::load(settings.face_model));
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*loaded.network, *renderer);
+  decomposer.set_landmark_normals(loaded.landmark_normals.get());
   decomposer.set_mirror_average(settings.mirror_average);
   InferBenchOptions options;
   options.photo.framing = loaded.framing;  // as infer does: crops framed as the model was trained

@@ -291,6 +291,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
        "summary, as one unsharded run writes them")
       ("contact-sheet", "also write contact_sheet.png: input, reconstruction, normal, true normal");
   add_mirror_average_option(options);
+  add_landmark_normals_option(options);
   po::variables_map values;
   if (!parse_command_options(
           "eval [--model WEIGHTS] --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
@@ -341,6 +342,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   const std::shared_ptr<NetworkPlugin> network = loaded.network;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
+  apply_landmark_normals_option(values, decomposer, loaded);
   apply_mirror_average_option(values, decomposer);
   const int size = network->config().input_size;
   const size_t plane = static_cast<size_t>(size) * size;
@@ -406,6 +408,11 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
           results.push_back(r);
         }
         progress.advance(count);
+      },
+      [&](size_t, std::vector<float>& points) {  // for the landmark normal head (the sample just loaded)
+        const std::vector<float>& own = samples.back().landmarks;
+        points.insert(points.end(), own.begin(), own.end());
+        return !own.empty();
       });
   progress.finish();
 

@@ -138,6 +138,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
                                                  values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);
+  apply_landmark_normals_option(values, decomposer, loaded);
   apply_mirror_average_option(values, decomposer);
   // One run per output folder (the shards of one sharded run write disjoint names and share it).
   {
@@ -172,6 +173,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   std::vector<RgbImage> sheet_rows;
   std::vector<float> raw_albedo, raw_normal, raw_visibility, raw_light;
   std::vector<float> batch_rgb;  // the batch's crops alone (the network's inputs may add a prior)
+  std::vector<float> last_points;  // the landmarks of the crop loaded last, in crop pixels (none: stretched)
   ProgressBar progress("infer", static_cast<int64_t>(files.size()), "images");
   decompose_in_batches(
       decomposer, backend, files.size(), batch,
@@ -188,6 +190,12 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
         if (inputs.empty()) batch_rgb.clear();
         inputs.insert(inputs.end(), one.begin(), one.end());
         batch_rgb.insert(batch_rgb.end(), input.crop.rgb.begin(), input.crop.rgb.end());
+        last_points.clear();
+        if (input.by_landmarks)
+          for (const Point2& p : input.crop.alignment.crop_landmarks) {
+            last_points.push_back(static_cast<float>(p.x));
+            last_points.push_back(static_cast<float>(p.y));
+          }
       },
       [&](size_t first, const Decomposition& d, const std::vector<float>&) {
         for (int i = 0; i < d.count; ++i) {
@@ -201,6 +209,10 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           raw_light.insert(raw_light.end(), d.light.begin(), d.light.end());
         }
         progress.advance(d.count);
+      },
+      [&](size_t, std::vector<float>& points) {  // the crop's landmarks when it was aligned by them
+        points.insert(points.end(), last_points.begin(), last_points.end());
+        return !last_points.empty();
       });
   progress.finish();
 

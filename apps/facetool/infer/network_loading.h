@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random) and --no-mirror-average.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average and --no-landmark-normals.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -16,13 +16,20 @@
 
 namespace facetool {
 
-// --model, --init, --seed, --width, --input-size, --network, --face-model, --no-mirror-average.
+// --model, --init, --seed, --width, --input-size, --network, --face-model, --no-mirror-average,
+// --no-landmark-normals.
 void add_network_options(boost::program_options::options_description& options);
 
 // --no-mirror-average, and applying it: the commands that run a trained network average each
 // crop's answer with its mirror image's unless told not to (libs/inference/mirror_average.h).
 void add_mirror_average_option(boost::program_options::options_description& options);
 void apply_mirror_average_option(const boost::program_options::variables_map& values, Decomposer& decomposer);
+
+// --no-landmark-normals, and applying it: the weights' landmark normal head, if they carry one
+// (libs/model/landmark_normals.h), is used unless told not to.
+void add_landmark_normals_option(boost::program_options::options_description& options);
+void apply_landmark_normals_option(const boost::program_options::variables_map& values, Decomposer& decomposer,
+                                   const LoadedNetwork& loaded);
 
 // Valid ranges of --seed, --width and --input-size (for check_option_ranges).
 std::vector<OptionRange> network_option_ranges();
