@@ -121,8 +121,9 @@ void read_prior(const LayeredImage& image, const std::string& path, const std::s
   copy_channels(image, names, path, out);
 }
 
-// facetool:landmarks as 136 finite numbers, or none when the sample has no such attribute.
-std::vector<float> landmarks_of(const LayeredImage& image, const std::string& path) {
+}  // namespace
+
+std::vector<float> sample_landmarks(const LayeredImage& image, const std::string& path) {
   std::vector<float> points;
   const std::string* text = image.find_metadata(std::string(kPrefix) + "landmarks");
   if (!text) return points;
@@ -136,7 +137,6 @@ std::vector<float> landmarks_of(const LayeredImage& image, const std::string& pa
   return points;
 }
 
-}  // namespace
 
 TrainingSample read_training_sample(const std::string& path, bool need_labels, const std::string& input_prior) {
   const LayeredImage image = read_exr(path, kPrefix);
@@ -144,12 +144,12 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels, c
   TrainingSample s = version && *version == kRealSampleVersion ? read_real(image, path, need_labels)
                                                                 : read_synthetic(image, path);
   if (!input_prior.empty()) read_prior(image, path, input_prior, s.prior);
-  s.landmarks = landmarks_of(image, path);
+  s.landmarks = sample_landmarks(image, path);
   return checked(std::move(s), path);
 }
 
 std::vector<float> read_training_sample_landmarks(const std::string& path) {
-  return landmarks_of(read_exr_header(path, kPrefix), path);
+  return sample_landmarks(read_exr_header(path, kPrefix), path);
 }
 
 void read_training_sample_size(const std::string& path, int& width, int& height) {

@@ -50,6 +50,10 @@ framing=$(grep -ao '"framing":"[^"]*"' "$model" | sed 's/"framing":"//; s/"$//')
 "$facetool" eval --data "$work/real" -o "$work/eval" >/dev/null 2>&1
 "$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
 [ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }
+# pseudo-label labels the samples (they carry their landmarks) with the landmark normal head's blend.
+"$facetool" pseudo-label "$work/real"/sample_*.exr --no-landmark-normals -o "$work/pseudo-network" 2>/dev/null
+cmp -s "$work/pseudo/sample_00000000.exr" "$work/pseudo-network/sample_00000000.exr" &&
+  { echo "FAIL: pseudo-label ignores the landmark normal head"; exit 1; }
 # Samples of another size: a clear error that says how to make them for this model.
 "$facetool" prepare-real "$photos" --size 64 -o "$work/real64" 2>/dev/null
 if "$facetool" eval --data "$work/real64" -o "$work/eval64" > /dev/null 2> "$work/err"; then

@@ -6,6 +6,7 @@
 
 #include "apps/facetool/commands/component_images.h"
 #include "apps/facetool/infer/network_loading.h"
+#include "libs/data/training_sample.h"
 #include "libs/io/exr_io.h"
 #include "libs/io/image_io.h"
 
@@ -46,6 +47,7 @@ FaceInput load_face_input(const std::string& path, const LoadedNetwork& net) {
         in.mask.assign(plane, 1.0f);
       for (float v : in.image)
         check(std::isfinite(v), "sample '", path, "' holds a NaN or infinite pixel");
+      in.landmarks = sample_landmarks(in.file, path);
       return in;
     }
   }

@@ -30,6 +30,7 @@ struct FaceInput {
   LayeredImage file;        // the sample's content (sample only)
   std::vector<float> image; // [3][S*S] linear RGB
   std::vector<float> mask;  // [S*S]
+  std::vector<float> landmarks;  // the sample's facetool:landmarks (68 (x, y), crop pixels); none for a plain crop
 };
 FaceInput load_face_input(const std::string& path, const LoadedNetwork& net);
 
