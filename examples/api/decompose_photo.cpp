@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     plugins.discover();
     const facetool::DecompositionModel model = facetool::load_decomposition_model(plugins, backend);
     facetool::Decomposer decomposer(*model.network, *model.renderer);
+    decomposer.set_landmark_normals(model.landmark_normals.get());  // the weights' head, as infer uses it
     facetool::FaceDetector detector;
     facetool::PhotoDecomposer photos(detector, decomposer, backend, model.input_size, {});
 

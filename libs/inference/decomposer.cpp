@@ -44,6 +44,8 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
     light = Tensor::from_host(backend, Shape{count, 27}, answer.light);
   }
   if (landmark_normals_ && landmarks) {
+    check(landmark_normals_->crop_size == s, "decomposer: the landmark normal head was fitted at ",
+          landmark_normals_->crop_size, " pixels, the network takes ", s);
     const size_t plane = static_cast<size_t>(s) * s;
     for (int i = 0; i < count; ++i)
       landmark_normals_->blend_into(landmarks->data() + i * kPoints, answer.normal.data() + i * 3 * plane);
