@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/image/crop_framing.h"
-#include "libs/face/similarity_transform.h"
+#include "libs/image/similarity_transform.h"
 #include "libs/io/image_io.h"
 
 namespace facetool {

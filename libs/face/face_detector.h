@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "libs/face/cnn_face_detector.h"
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/io/image_io.h"
 
 namespace facetool {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 
 namespace facetool {
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/image/crop_framing.h"
 
 namespace facetool {

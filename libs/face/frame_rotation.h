@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-#include "libs/face/similarity_transform.h"
+#include "libs/image/similarity_transform.h"
 #include "core/sh/sh_types.h"
 
 namespace facetool {

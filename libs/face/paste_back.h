@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "libs/face/point2.h"
-#include "libs/face/similarity_transform.h"
+#include "libs/face/landmarks68.h"
+#include "libs/image/similarity_transform.h"
 
 namespace facetool {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/synth/face_parts.h"
 #include "core/util/error.h"
 

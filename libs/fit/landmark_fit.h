@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/fit/fit_basis.h"
 #include "libs/synth/pose_camera.h"
 #include "libs/synth/vec3.h"

@@ -7,58 +7,35 @@
 #include <utility>
 
 #include "core/util/error.h"
+#include "libs/image/similarity_transform.h"
 
 namespace facetool {
 namespace {
 
-// The similarity q = [a -b; b a] p + t that best maps a face's inner points (17-67) onto
-// `mean` (least squares).
-struct MeanSimilarity {
-  double a = 1, b = 0, tx = 0, ty = 0;
-  double x(double px, double py) const { return a * px - b * py + tx; }
-  double y(double px, double py) const { return b * px + a * py + ty; }
-};
-
-MeanSimilarity similarity_onto(const float* xy, const std::vector<float>& mean) {
-  constexpr int kFirstInner = 17, kCount = LandmarkNormals::kLandmarks, kInner = kCount - kFirstInner;
-  double cx = 0, cy = 0, mx = 0, my = 0;
-  for (int i = kFirstInner; i < kCount; ++i) {
-    cx += xy[2 * i];
-    cy += xy[2 * i + 1];
-    mx += mean[2 * i];
-    my += mean[2 * i + 1];
+// The similarity that best maps a face's inner points (17-67) onto `mean` (least squares).
+Similarity2 similarity_onto(const float* xy, const std::vector<float>& mean) {
+  std::vector<Point2> from, to;
+  for (int i = 17; i < LandmarkNormals::kLandmarks; ++i) {
+    from.push_back({xy[2 * i], xy[2 * i + 1]});
+    to.push_back({mean[2 * i], mean[2 * i + 1]});
   }
-  cx /= kInner, cy /= kInner, mx /= kInner, my /= kInner;
-  double dot = 0, cross = 0, norm = 0;
-  for (int i = kFirstInner; i < kCount; ++i) {
-    const double px = xy[2 * i] - cx, py = xy[2 * i + 1] - cy;
-    const double qx = mean[2 * i] - mx, qy = mean[2 * i + 1] - my;
-    dot += px * qx + py * qy;
-    cross += px * qy - py * qx;
-    norm += px * px + py * py;
-  }
-  check(norm > 0, "landmark normals: the face's inner landmarks all lie on one point");
-  MeanSimilarity t;
-  t.a = dot / norm;
-  t.b = cross / norm;
-  t.tx = mx - (t.a * cx - t.b * cy);
-  t.ty = my - (t.b * cx + t.a * cy);
-  return t;
+  return fit_similarity(from, to);
 }
 
 // The features of a face moved onto the mean by `t`.
-std::vector<double> aligned_features(const float* xy, const MeanSimilarity& t, int crop_size) {
+std::vector<double> aligned_features(const float* xy, const Similarity2& t, int crop_size) {
   std::vector<float> aligned(2 * LandmarkNormals::kLandmarks);
   for (int i = 0; i < LandmarkNormals::kLandmarks; ++i) {
-    aligned[2 * i] = static_cast<float>(t.x(xy[2 * i], xy[2 * i + 1]));
-    aligned[2 * i + 1] = static_cast<float>(t.y(xy[2 * i], xy[2 * i + 1]));
+    const Point2 q = t.apply({xy[2 * i], xy[2 * i + 1]});
+    aligned[2 * i] = static_cast<float>(q.x);
+    aligned[2 * i + 1] = static_cast<float>(q.y);
   }
   return LandmarkNormals::features(aligned.data(), crop_size);
 }
 
 // Turns a normal (x right, y up) by the similarity's rotation (image axes, y down); `sign` -1
 // turns it back.
-void rotate_normal(const MeanSimilarity& t, double sign, double& nx, double& ny) {
+void rotate_normal(const Similarity2& t, double sign, double& nx, double& ny) {
   const double scale = std::hypot(t.a, t.b), c = t.a / scale, s = sign * t.b / scale;
   const double ix = nx, iy = -ny;
   const double rx = c * ix - s * iy, ry = s * ix + c * iy;
@@ -112,7 +89,7 @@ void LandmarkNormals::predict(const float* xy, std::vector<float>& normal, std::
             mean_landmarks.size() == 2 * kLandmarks,
         "landmark normals: a head of ", weights.size(), " weights and ", mean_landmarks.size(),
         " mean coordinates does not fit its grid of ", grid);
-  const MeanSimilarity t = similarity_onto(xy, mean_landmarks);
+  const Similarity2 t = similarity_onto(xy, mean_landmarks);
   const std::vector<double> f = aligned_features(xy, t, crop_size);
   const size_t cells = static_cast<size_t>(grid) * grid * kValues;
   std::vector<double> coarse(cells, 0.0);
@@ -129,7 +106,8 @@ void LandmarkNormals::predict(const float* xy, std::vector<float>& normal, std::
   const double to_grid = static_cast<double>(grid) / s;
   for (int y = 0; y < s; ++y)
     for (int x = 0; x < s; ++x) {
-      const double gx = (t.x(x, y) + 0.5) * to_grid - 0.5, gy = (t.y(x, y) + 0.5) * to_grid - 0.5;
+      const Point2 q = t.apply({static_cast<double>(x), static_cast<double>(y)});
+      const double gx = (q.x + 0.5) * to_grid - 0.5, gy = (q.y + 0.5) * to_grid - 0.5;
       const int x0 = std::clamp(static_cast<int>(std::floor(gx)), 0, std::max(0, grid - 2));
       const int y0 = std::clamp(static_cast<int>(std::floor(gy)), 0, std::max(0, grid - 2));
       const int x1 = std::min(x0 + 1, grid - 1), y1 = std::min(y0 + 1, grid - 1);
@@ -181,22 +159,22 @@ LandmarkNormalsFit::LandmarkNormalsFit(int crop_size, int grid, std::vector<floa
 
 void LandmarkNormalsFit::add(const float* xy, const float* normal, const float* mask) {
   constexpr int n = LandmarkNormals::kFeatures, kv = LandmarkNormals::kValues;
-  const MeanSimilarity t = similarity_onto(xy, mean_);
+  const Similarity2 t = similarity_onto(xy, mean_);
   const std::vector<double> f = aligned_features(xy, t, crop_size_);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) gram_[i * n + j] += f[i] * f[j];
   // The labels in the mean's frame (each pixel q there read at p = t^-1(q) in the crop, nearest
   // pixel; the normal turned by the similarity), averaged over each cell: the mask as 0 or 1,
   // the normal where it is 1.
-  const double det = t.a * t.a + t.b * t.b;
-  const MeanSimilarity inverse{t.a / det, -t.b / det, -(t.a * t.tx + t.b * t.ty) / det, -(-t.b * t.tx + t.a * t.ty) / det};
+  const Similarity2 inverse = t.inverse();
   const int cell = crop_size_ / grid_;
   const size_t plane = static_cast<size_t>(crop_size_) * crop_size_;
   const size_t cells = static_cast<size_t>(grid_) * grid_ * kv;
   std::vector<double> y(cells, 0.0);
   for (int qy = 0; qy < crop_size_; ++qy)
     for (int qx = 0; qx < crop_size_; ++qx) {
-      const long px = std::lround(inverse.x(qx, qy)), py = std::lround(inverse.y(qx, qy));
+      const Point2 from = inverse.apply({static_cast<double>(qx), static_cast<double>(qy)});
+      const long px = std::lround(from.x), py = std::lround(from.y);
       if (px < 0 || py < 0 || px >= crop_size_ || py >= crop_size_) continue;
       const size_t p = static_cast<size_t>(py) * crop_size_ + static_cast<size_t>(px);
       if (!(mask[p] > 0.5f)) continue;

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "libs/face/point2.h"
+#include "libs/face/landmarks68.h"
 #include "libs/io/image_io.h"
 #include "libs/synth/face_model.h"
 #include "libs/synth/gbuffer.h"

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "libs/face/point2.h"
+#include "libs/image/point2.h"
 
 namespace facetool {
 

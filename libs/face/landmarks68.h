@@ -1,13 +1,11 @@
-// Point2: a 2D point in pixel coordinates (x right, y down; pixel (i, j)'s centre at (i, j)).
+// Landmarks68: the 68 face landmarks of the iBUG 300-W layout, and which of them are inner points.
 #pragma once
 
 #include <array>
 
-namespace facetool {
+#include "libs/image/point2.h"
 
-struct Point2 {
-  double x = 0, y = 0;
-};
+namespace facetool {
 
 // The 68 landmarks of the Multi-PIE / iBUG 300-W layout: 0-16 jaw line, 17-26 brows,
 // 27-35 nose, 36-47 eyes, 48-67 mouth.

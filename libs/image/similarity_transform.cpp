@@ -1,5 +1,5 @@
 // Similarity transforms: composition, inverse, least-squares fit.
-#include "libs/face/similarity_transform.h"
+#include "libs/image/similarity_transform.h"
 
 #include <cmath>
 
