@@ -123,20 +123,19 @@ void read_prior(const LayeredImage& image, const std::string& path, const std::s
 
 }  // namespace
 
-std::vector<float> sample_landmarks(const LayeredImage& image, const std::string& path) {
-  std::vector<float> points;
+std::vector<double> sample_landmarks(const LayeredImage& image, const std::string& path) {
+  std::vector<double> points;
   const std::string* text = image.find_metadata(std::string(kPrefix) + "landmarks");
   if (!text) return points;
   std::istringstream in(*text);
-  float v;
+  double v;
   while (in >> v) points.push_back(v);
   check(points.size() == 136 && in.eof(), "sample '", path, "': facetool:landmarks must hold 136 numbers ",
         "(68 points); regenerate the sample");
-  for (float c : points)
+  for (double c : points)
     check(std::isfinite(c), "sample '", path, "' holds a NaN or infinite landmark coordinate; regenerate the sample");
   return points;
 }
-
 
 TrainingSample read_training_sample(const std::string& path, bool need_labels, const std::string& input_prior) {
   const LayeredImage image = read_exr(path, kPrefix);
@@ -144,12 +143,14 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels, c
   TrainingSample s = version && *version == kRealSampleVersion ? read_real(image, path, need_labels)
                                                                 : read_synthetic(image, path);
   if (!input_prior.empty()) read_prior(image, path, input_prior, s.prior);
-  s.landmarks = sample_landmarks(image, path);
+  const std::vector<double> points = sample_landmarks(image, path);
+  s.landmarks.assign(points.begin(), points.end());
   return checked(std::move(s), path);
 }
 
 std::vector<float> read_training_sample_landmarks(const std::string& path) {
-  return sample_landmarks(read_exr_header(path, kPrefix), path);
+  const std::vector<double> points = sample_landmarks(read_exr_header(path, kPrefix), path);
+  return std::vector<float>(points.begin(), points.end());
 }
 
 void read_training_sample_size(const std::string& path, int& width, int& height) {

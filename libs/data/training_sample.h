@@ -34,8 +34,9 @@ TrainingSample read_training_sample(const std::string& path, bool need_labels,
                                     const std::string& input_prior = "");
 
 // A sample's facetool:landmarks as 136 finite numbers (68 (x, y) pairs), empty when it has no
-// such attribute; a malformed one is an error naming `path`.
-std::vector<float> sample_landmarks(const LayeredImage& sample, const std::string& path);
+// such attribute; a malformed one is an error naming `path`. (The one reader of the attribute:
+// training samples, pseudo-label's inputs, the fit's targets.)
+std::vector<double> sample_landmarks(const LayeredImage& sample, const std::string& path);
 
 // TrainingSample::landmarks from the file's header alone (empty: the sample has none).
 std::vector<float> read_training_sample_landmarks(const std::string& path);

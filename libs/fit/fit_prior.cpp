@@ -8,22 +8,20 @@
 
 #include "core/plugin/network_plugin.h"
 #include "core/util/error.h"
+#include "libs/data/training_sample.h"
 #include "libs/fit/fit_render.h"
 #include "libs/synth/random.h"
 
 namespace facetool {
 
 LandmarkTarget read_sample_landmarks(const LayeredImage& sample, const std::string& source) {
-  const std::string* text = sample.find_metadata("facetool:landmarks");
-  check(text != nullptr, "sample '", source, "' has no facetool:landmarks: the fit needs the samples of ",
+  const std::vector<double> points = sample_landmarks(sample, source);
+  check(!points.empty(), "sample '", source, "' has no facetool:landmarks: the fit needs the samples of ",
         "`facetool prepare-real`, or of `facetool synth` from a face model (this version writes them)");
   LandmarkTarget target;
   target.width = sample.width;
   target.height = sample.height;
-  std::istringstream in(*text);
-  for (Point2& p : target.landmarks)
-    check(static_cast<bool>(in >> p.x >> p.y) && std::isfinite(p.x) && std::isfinite(p.y), "sample '", source,
-          "': facetool:landmarks does not hold 136 finite numbers");
+  for (int i = 0; i < kLandmarkCount; ++i) target.landmarks[i] = {points[2 * i], points[2 * i + 1]};
   return target;
 }
 

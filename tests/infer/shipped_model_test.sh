@@ -29,11 +29,15 @@ cmp -s "$work/default/astronaut/photo.exr" "$work/network/astronaut/photo.exr" &
   { echo "FAIL: --no-landmark-normals gives the same photo.exr as the default"; exit 1; }
 cmp -s "$work/default/astronaut/face_0/albedo.exr" "$work/network/astronaut/face_0/albedo.exr" ||
   { echo "FAIL: the landmark normal head changed the albedo (it blends the normals only)"; exit 1; }
+"$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" --no-landmark-normals \
+  -o "$work/relit-network" 2>/dev/null
 
 # relight without --model: the light of the other example photo.
 "$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" \
   -o "$work/relit" 2>/dev/null || { echo "FAIL: relight without --model"; exit 1; }
 [ -n "$(find "$work/relit" -name '*.png' | head -1)" ] || { echo "FAIL: relight wrote no picture"; exit 1; }
+cmp -s "$work/relit/astronaut/relit.png" "$work/relit-network/astronaut/relit.png" &&
+  { echo "FAIL: relight ignores the landmark normal head"; exit 1; }
 
 # --model and --init together are refused.
 if "$facetool" infer "$photos/astronaut.png" --model "$model" --init random -o "$work/both" 2>"$work/err"; then
@@ -48,6 +52,10 @@ framing=$(grep -ao '"framing":"[^"]*"' "$model" | sed 's/"framing":"//; s/"$//')
 [ -n "$size" ] && [ -n "$framing" ] || { echo "FAIL: no input_size or framing in $model's header"; exit 1; }
 "$facetool" prepare-real "$photos" --size "$size" --framing "$framing" -o "$work/real" 2>/dev/null
 "$facetool" eval --data "$work/real" -o "$work/eval" >/dev/null 2>&1
+# eval reads the samples' landmarks for the head: the reconstruction differs without it.
+"$facetool" eval --data "$work/real" --no-landmark-normals -o "$work/eval-network" >/dev/null 2>&1
+cmp -s "$work/eval/per_image.csv" "$work/eval-network/per_image.csv" &&
+  { echo "FAIL: eval ignores the landmark normal head"; exit 1; }
 "$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
 [ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }
 # pseudo-label labels the samples (they carry their landmarks) with the landmark normal head's blend.

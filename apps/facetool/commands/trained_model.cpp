@@ -47,7 +47,8 @@ FaceInput load_face_input(const std::string& path, const LoadedNetwork& net) {
         in.mask.assign(plane, 1.0f);
       for (float v : in.image)
         check(std::isfinite(v), "sample '", path, "' holds a NaN or infinite pixel");
-      in.landmarks = sample_landmarks(in.file, path);
+      const std::vector<double> points = sample_landmarks(in.file, path);
+      in.landmarks.assign(points.begin(), points.end());
       return in;
     }
   }
