@@ -1,7 +1,6 @@
-// EXR writing and reading through OpenImageIO's ImageOutput/ImageInput.
+// EXR files of named float channels: written by exr_encoding, read through OpenImageIO.
 #include "libs/io/exr_io.h"
 
-#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -11,12 +10,10 @@
 #include <memory>
 
 #include "core/util/atomic_file.h"
-#include "libs/io/image_encoding.h"
 #include "libs/io/image_io.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
-#include "core/util/stage_timer.h"
 
 namespace facetool {
 
@@ -24,42 +21,15 @@ namespace OIIO = OIIO_NAMESPACE;
 
 namespace {
 
-// OpenImageIO wants interleaved pixels; the channels lie in planes or other interleaved images.
-// Each pixel holds its channels in the file's own types (16-bit halves where asked, else 32-bit
-// floats), so OpenImageIO passes the bytes to OpenEXR unconverted. Blocks of 256 pixels keep the
-// strided writes of every channel inside a few kilobytes of cache.
-std::vector<unsigned char> interleave(size_t pixels, const std::vector<ExrChannel>& channels) {
-  std::vector<size_t> offset(channels.size());
-  size_t pixel_bytes = 0;
-  for (size_t c = 0; c < channels.size(); ++c) {
-    offset[c] = pixel_bytes;
-    pixel_bytes += channels[c].half ? sizeof(Imath::half) : sizeof(float);
-  }
-  constexpr size_t kBlock = 256;
-  std::vector<unsigned char> out(pixels * pixel_bytes);
-  for (size_t start = 0; start < pixels; start += kBlock) {
-    const size_t end = std::min(pixels, start + kBlock);
-    for (size_t c = 0; c < channels.size(); ++c) {
-      const float* source = channels[c].data;
-      const size_t stride = channels[c].stride;
-      unsigned char* target = out.data() + offset[c];
-      if (channels[c].half)
-        for (size_t p = start; p < end; ++p) {
-          const Imath::half v(source[p * stride]);
-          std::memcpy(target + p * pixel_bytes, &v, sizeof v);
-        }
-      else
-        for (size_t p = start; p < end; ++p) std::memcpy(target + p * pixel_bytes, source + p * stride, sizeof(float));
-    }
-  }
-  return out;
-}
-
+// The file's own string attributes. OpenImageIO adds its description of the file it read
+// ("compression", the "oiio:" names): those are not metadata, and writing them back would ask the
+// encoder to store the format's own attribute.
 void read_metadata(const OIIO::ImageSpec& spec, const std::string& prefix, LayeredImage& image) {
   for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
     if (attribute.type() != OIIO::TypeDesc::STRING) continue;
     const std::string name = attribute.name().string();
     if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    if (name == "compression" || name.compare(0, 5, "oiio:") == 0) continue;
     image.metadata.emplace_back(name, attribute.get_string());
   }
 }
@@ -84,38 +54,6 @@ std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
 }
 
 }  // namespace
-
-std::vector<unsigned char> encode_exr(const std::string& path, int width, int height,
-                                      const std::vector<ExrChannel>& channels,
-                                      const std::vector<std::pair<std::string, std::string>>& metadata) {
-  StageTimer timer("encode");  // the interleaving and OpenEXR's compression
-  check(width > 0 && height > 0 && !channels.empty(), "cannot write '", path, "': the image is empty");
-  for (const ExrChannel& c : channels)
-    check(c.data != nullptr && c.stride >= 1, "cannot write '", path, "': channel '", c.name, "' has no pixels");
-  const std::vector<unsigned char> interleaved = interleave(static_cast<size_t>(width) * height, channels);
-  OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
-  spec.channelnames.clear();
-  bool any_half = false;
-  for (const ExrChannel& c : channels) {
-    spec.channelnames.push_back(c.name);
-    any_half = any_half || c.half;
-  }
-  if (any_half) {
-    spec.channelformats.clear();
-    for (const ExrChannel& c : channels) spec.channelformats.push_back(c.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-  }
-  spec.alpha_channel = -1;
-  spec.z_channel = -1;
-  // Run-length: lossless, and on infer's 25-channel photo.exr 20x faster to encode than zip for
-  // a file about 13 % larger (docs/performance.md).
-  spec.attribute("compression", "rle");
-  // OpenImageIO stamps the write time into the header unless a DateTime is given; leave it
-  // empty so the same content always gives the same bytes.
-  spec.attribute("DateTime", "");
-  for (const auto& [name, value] : metadata) spec.attribute(name, value);
-  // The bytes are already in the file's channel types: no conversion.
-  return encode_image(path, "openexr", spec, OIIO::TypeDesc::UNKNOWN, interleaved.data());
-}
 
 std::vector<unsigned char> encode_exr(const std::string& path, const LayeredImage& image) {
   check(image.width > 0 && image.height > 0 && !image.channel_names.empty(),

@@ -187,6 +187,24 @@ TEST_F(AtomicWrite, ExrHalfChannelsReadBackWithinHalfPrecisionAndFloatChannelsEx
   EXPECT_THROW(encode_exr(file("bad.exr"), 37, 23, channels, {}), Error);
 }
 
+// All of an EXR's metadata read back (prefix "") is what was written, nothing OpenImageIO adds
+// ("compression", "oiio:ColorSpace"), so an image read can be written again (pseudo-label does).
+TEST_F(AtomicWrite, ExrMetadataReadBackIsWhatWasWrittenAndWritesAgain) {
+  LayeredImage image(5, 4, {"u", "v"});
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = 0.5f * static_cast<float>(i);
+  image.metadata = {{"facetool:source", "x.png"}, {"facetool:faces", "1"}};
+  write_exr_atomically(file("first.exr"), image);
+  const LayeredImage first = read_exr(file("first.exr"));
+  std::set<std::pair<std::string, std::string>> want(image.metadata.begin(), image.metadata.end()),
+      got(first.metadata.begin(), first.metadata.end());
+  EXPECT_EQ(got, want);
+  write_exr_atomically(file("second.exr"), first);
+  const LayeredImage second = read_exr(file("second.exr"));
+  EXPECT_EQ(second.pixels, image.pixels);
+  const std::set<std::pair<std::string, std::string>> again(second.metadata.begin(), second.metadata.end());
+  EXPECT_EQ(again, want);
+}
+
 // A half channel holds exactly Imath::half's rounding of each float (round to nearest, ties to
 // even), whichever path converts it: ties, subnormals, underflow to zero, overflow to infinity,
 // negative zero, and random values over the whole exponent range, read from a plane and from an
