@@ -177,7 +177,7 @@ PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_
 class Model {
  public:
   Model(const std::string& weights, const std::string& backend, const std::string& renderer,
-        const std::string& landmark_model, bool mirror_average, bool landmark_normals)
+        const std::string& landmark_model, bool mirror_average, bool landmark_normals, bool light_gain)
       : landmark_model_(landmark_model.empty() ? kDefaultLandmarkModel : landmark_model) {
     backend_ = &get_backend(backend);
     plugins_.set_search_dirs(library_plugin_dirs());
@@ -186,6 +186,7 @@ class Model {
     decomposer_ = std::make_unique<Decomposer>(*model_.network, *model_.renderer);
     decomposer_->set_landmark_normals(landmark_normals ? model_.landmark_normals.get() : nullptr);
     decomposer_->set_mirror_average(mirror_average);
+    decomposer_->set_light_gain(light_gain);
   }
 
   Photo decompose(RgbImage image, const std::string& source, const PhotoInferOptions& options) {
@@ -343,20 +344,22 @@ PYBIND11_MODULE(_facetool, m) {
   py::class_<Model, std::shared_ptr<Model>>(m, "Model", "A decomposition model: network and renderer plugins on one backend, and the face detector.")
       .def(py::init([](const std::optional<std::string>& weights, const std::string& backend,
                        const std::string& renderer, const std::optional<std::string>& landmark_model,
-                       bool mirror_average, bool landmark_normals) {
+                       bool mirror_average, bool landmark_normals, bool light_gain) {
              py::gil_scoped_release release;
              return std::make_shared<Model>(weights.value_or(""), backend, renderer, landmark_model.value_or(""),
-                                            mirror_average, landmark_normals);
+                                            mirror_average, landmark_normals, light_gain);
            }),
            py::arg("weights") = py::none(), py::arg("backend") = "cpu", py::arg("renderer") = "sh_renderer",
            py::arg("landmark_model") = py::none(), py::arg("mirror_average") = true,
-           py::arg("landmark_normals") = true,
+           py::arg("landmark_normals") = true, py::arg("light_gain") = true,
            "Loads `weights` (.safetensors; None: the shipped model) on `backend` (see facetool.backends()).\n"
            "`landmark_model`: dlib's 68-point predictor (None: Debian libdlib-data's; research use only).\n"
            "`mirror_average`: each face crop beside its mirror image, the answers averaged (as the facetool\n"
            "program; False: one network pass, as its --no-mirror-average).\n"
            "`landmark_normals`: the weights' landmark normal head blended into the network's normals (as the\n"
-           "program; False: the network's alone, as its --no-landmark-normals).")
+           "program; False: the network's alone, as its --no-landmark-normals, which also leaves the light's gain out).\n"
+           "`light_gain`: each colour of the network's light scaled to render the face best in the head's face mask\n"
+           "(as the program; False: the network's light as it is, as its --no-light-gain).")
       .def("decompose", [](Model& model, const py::handle& image, int max_faces, double min_face_size, double min_score,
                            const std::string& face_region, double feather, int batch) {
              RgbImage photo = image_from_array(image, "image");

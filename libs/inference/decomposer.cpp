@@ -1,12 +1,14 @@
-// Decomposer: one eval-mode network pass (optionally beside the mirrored batch), the landmark normal head, one render per batch.
+// Decomposer: one eval-mode network pass (optionally beside the mirrored batch), the landmark normal head, one render per batch, the light's gain.
 #include "libs/inference/decomposer.h"
 
+#include <array>
 #include <optional>
 #include <utility>
 
 #include "core/backend/backend.h"
 #include "core/util/error.h"
 #include "core/util/stage_timer.h"
+#include "libs/inference/light_gain.h"
 #include "libs/inference/mirror_average.h"
 
 namespace facetool {
@@ -43,12 +45,15 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
     visibility = Tensor::from_host(backend, Shape{count, 9, s, s}, answer.visibility);
     light = Tensor::from_host(backend, Shape{count, 27}, answer.light);
   }
+  const size_t plane = static_cast<size_t>(s) * s;
+  std::vector<std::vector<float>> head_masks;  // the head's face mask of each crop
   if (landmark_normals_ && landmarks) {
     check(landmark_normals_->crop_size == s, "decomposer: the landmark normal head was fitted at ",
           landmark_normals_->crop_size, " pixels, the network takes ", s);
-    const size_t plane = static_cast<size_t>(s) * s;
+    head_masks.resize(count);
     for (int i = 0; i < count; ++i)
-      landmark_normals_->blend_into(landmarks->data() + i * kPoints, answer.normal.data() + i * 3 * plane);
+      landmark_normals_->blend_into(landmarks->data() + i * kPoints, answer.normal.data() + i * 3 * plane,
+                                    &head_masks[i]);
     normal = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.normal);
   }
   timer.emplace("render");
@@ -65,6 +70,16 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
   d.light = std::move(answer.light);
   d.shading = render_out.shading.to_host();
   d.reconstruction = render_out.image.to_host();
+  if (light_gain_ && !head_masks.empty()) {
+    timer.emplace("light gain");
+    for (int i = 0; i < count; ++i) {
+      const std::array<float, 3> gain = fit_light_gain(d.reconstruction.data() + i * 3 * plane,
+                                                       images.data() + static_cast<size_t>(i) * channels * plane,
+                                                       head_masks[i].data(), plane);
+      apply_light_gain(gain, d.light.data() + i * 27, d.shading.data() + i * 3 * plane,
+                       d.reconstruction.data() + i * 3 * plane, plane);
+    }
+  }
   return d;
 }
 

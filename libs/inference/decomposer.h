@@ -29,7 +29,8 @@ class Decomposer {
   // prior when it has one: [N,3+P,S,S] (NetworkPlugin::forward). Runs in eval mode on `backend`.
   // `landmarks` (optional): each crop's 68 landmarks, (x, y) in crop pixels, [N][68][2]; with a
   // landmark normal head (set_landmark_normals) its normals are blended into the network's
-  // before rendering, so shading and reconstruction follow them.
+  // before rendering, so shading and reconstruction follow them, and the light's gain is fitted
+  // (set_light_gain).
   Decomposition run(Backend& backend, const std::vector<float>& images, int count,
                     const std::vector<float>* landmarks = nullptr);
   // Whether each crop runs beside its mirror image, the two answers averaged before rendering
@@ -41,6 +42,13 @@ class Decomposer {
   // the crops run with landmarks. It must outlive the decomposer.
   void set_landmark_normals(const LandmarkNormals* head) { landmark_normals_ = head; }
   const LandmarkNormals* landmark_normals() const { return landmark_normals_; }
+  // Whether each colour of the network's light is scaled to render the crop best, in the head's
+  // face mask, after rendering (libs/inference/light_gain.h; on by default: the light nearer the
+  // truth on synthetic faces and the reconstruction and relighting closer to the photos,
+  // docs/photos.md, "The light's gain"). Only crops run with landmarks and a head: the head's
+  // mask says where the face is.
+  void set_light_gain(bool on) { light_gain_ = on; }
+  bool light_gain() const { return light_gain_; }
   const NetworkPlugin& network() const { return network_; }
 
  private:
@@ -48,6 +56,7 @@ class Decomposer {
   RendererPlugin& renderer_;
   bool mirror_average_ = true;
   const LandmarkNormals* landmark_normals_ = nullptr;
+  bool light_gain_ = true;
 };
 
 }  // namespace facetool

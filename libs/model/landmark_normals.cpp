@@ -129,8 +129,9 @@ void LandmarkNormals::predict(const float* xy, std::vector<float>& normal, std::
     }
 }
 
-void LandmarkNormals::blend_into(const float* xy, float* normal) const {
-  std::vector<float> head, mask;
+void LandmarkNormals::blend_into(const float* xy, float* normal, std::vector<float>* mask_out) const {
+  std::vector<float> head, own_mask;
+  std::vector<float>& mask = mask_out ? *mask_out : own_mask;
   predict(xy, head, mask);
   const size_t plane = mask.size();
   for (size_t p = 0; p < plane; ++p) {

@@ -40,8 +40,9 @@ struct LandmarkNormals {
   void predict(const float* xy, std::vector<float>& normal, std::vector<float>& mask) const;
   // Blends the head's normals into `normal` ([3][S*S] unit vectors, the network's): where the
   // head's mask m is above 0.3, n = normalise(w h + (1 - w) n) with w = blend * min(1, (m - 0.3) / 0.4),
-  // so the face's inside takes the head's weight and its edge fades to the network's.
-  void blend_into(const float* xy, float* normal) const;
+  // so the face's inside takes the head's weight and its edge fades to the network's. `mask_out`
+  // (optional) receives the head's mask, as predict gives it.
+  void blend_into(const float* xy, float* normal, std::vector<float>* mask_out = nullptr) const;
 };
 
 // Accumulates labelled faces, then solves the ridge regression (normal equations, Cholesky).

@@ -43,7 +43,7 @@ _models = {}
 
 
 def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None, mirror_average=True,
-               landmark_normals=True):
+               landmark_normals=True, light_gain=True):
     """Loads a decomposition model (a facetool.Model).
 
     weights: a .safetensors file (None: the shipped model, facetool-v2). backend: one of
@@ -53,10 +53,13 @@ def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_mod
     facetool program does (False: one network pass per face, half the network's time).
     landmark_normals: blend the normals of the weights' landmark normal head, if they carry one (the
     shipped model does), into the network's, as the facetool program does (False: the network's
-    normals alone, as its --no-landmark-normals).
+    normals alone, as its --no-landmark-normals, which also leaves the light's gain out).
+    light_gain: scale each colour of the network's light to render the face best in the landmark
+    normal head's face mask, as the facetool program does (False: the network's light as it is, as
+    its --no-light-gain).
     """
     return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model,
-                 mirror_average=mirror_average, landmark_normals=landmark_normals)
+                 mirror_average=mirror_average, landmark_normals=landmark_normals, light_gain=light_gain)
 
 
 def _default_model(backend):

@@ -8,12 +8,12 @@
 #include "core/backend/backend.h"
 #include "core/backend/registry.h"
 #include "core/plugin/network_plugin.h"
-#include "core/plugin/plugin_loader.h"
 #include "core/plugin/renderer_plugin.h"
 #include "core/sh/sh_basis.h"
 #include "core/sh/sphere_samples.h"
 #include "libs/inference/decomposer.h"
 #include "libs/inference/mirror_average.h"
+#include "tests/support/paper_plugins.h"
 
 namespace facetool {
 namespace {
@@ -135,22 +135,12 @@ TEST(MirrorAverage, AnswersAreAveragedAtTheMirroredPixel) {
   EXPECT_FLOAT_EQ(out.light[18 + 8], 0.5f * (both.light[18 + 8] + both.light[27 + 18 + 8]));
 }
 
-struct Plugins {
-  PluginLoader loader;
-  std::shared_ptr<NetworkPlugin> network;
-  std::shared_ptr<RendererPlugin> renderer;
-  Plugins() {
-    renderer = std::dynamic_pointer_cast<RendererPlugin>(loader.create(loader.load_file(FACETOOL_SH_RENDERER_PLUGIN)));
-    network = std::dynamic_pointer_cast<NetworkPlugin>(loader.create(loader.load_file(FACETOOL_PAPER_NETWORK_PLUGIN)));
-  }
-};
-
 // The averaged decomposition of a mirrored crop is the mirror of the crop's (the network alone,
 // with random weights, is far from it): the renderer's shading included, which checks the light's
 // and visibility's sign rule against the renderer's own SH.
 TEST(MirrorAverage, DecomposerAnswersAMirroredCropWithTheMirrorOfItsAnswer) {
   Backend& backend = get_backend("cpu");
-  Plugins plugins;
+  testing::PaperPlugins plugins(FACETOOL_PAPER_NETWORK_PLUGIN, FACETOOL_SH_RENDERER_PLUGIN);
   ASSERT_TRUE(plugins.network && plugins.renderer);
   const int s = 16;
   plugins.network->build(backend, NetworkConfig{8, s});

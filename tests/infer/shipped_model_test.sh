@@ -31,6 +31,14 @@ cmp -s "$work/default/astronaut/face_0/albedo.exr" "$work/network/astronaut/face
   { echo "FAIL: the landmark normal head changed the albedo (it blends the normals only)"; exit 1; }
 "$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" --no-landmark-normals \
   -o "$work/relit-network" 2>/dev/null
+# The light's gain, fitted in the head's face mask, changes the light and not the albedo or normals.
+"$facetool" infer "$photos/astronaut.png" --no-light-gain -o "$work/no-gain" 2>/dev/null
+cmp -s "$work/default/astronaut/face_0/light.json" "$work/no-gain/astronaut/face_0/light.json" &&
+  { echo "FAIL: --no-light-gain gives the same light as the default"; exit 1; }
+for layer in albedo normal; do
+  cmp -s "$work/default/astronaut/face_0/$layer.exr" "$work/no-gain/astronaut/face_0/$layer.exr" ||
+    { echo "FAIL: the light's gain changed the $layer (it scales the light only)"; exit 1; }
+done
 
 # relight without --model: the light of the other example photo.
 "$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" \
@@ -56,6 +64,9 @@ framing=$(grep -ao '"framing":"[^"]*"' "$model" | sed 's/"framing":"//; s/"$//')
 "$facetool" eval --data "$work/real" --no-landmark-normals -o "$work/eval-network" >/dev/null 2>&1
 cmp -s "$work/eval/per_image.csv" "$work/eval-network/per_image.csv" &&
   { echo "FAIL: eval ignores the landmark normal head"; exit 1; }
+"$facetool" eval --data "$work/real" --no-light-gain -o "$work/eval-no-gain" >/dev/null 2>&1
+cmp -s "$work/eval/per_image.csv" "$work/eval-no-gain/per_image.csv" &&
+  { echo "FAIL: eval ignores --no-light-gain"; exit 1; }
 "$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
 [ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }
 # pseudo-label labels the samples (they carry their landmarks) with the landmark normal head's blend.

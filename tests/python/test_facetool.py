@@ -137,13 +137,29 @@ def test_mirror_average_answers_the_mirrored_photo_with_the_mirrored_answer(phot
 def test_the_landmark_normal_head_changes_the_normals_only(photo):
     """The shipped weights carry a landmark normal head: the default blends its normals into the
     network's (docs/model-card.md); landmark_normals=False gives the network's alone. The albedo
-    and the light come from the network either way."""
+    and the light come from the network either way (the light's gain, which needs the head's
+    face mask, left out on both sides)."""
+    head = facetool.load_model(light_gain=False).decompose(photo.image)
     alone = facetool.load_model(landmark_normals=False).decompose(photo.image)
-    a, b = photo.faces[0], alone.faces[0]
+    a, b = head.faces[0], alone.faces[0]
     inside = a.mask > 0.5
     assert np.degrees(np.arccos(np.clip((a.normal * b.normal).sum(-1), -1, 1)))[inside].mean() > 2.0
     np.testing.assert_array_equal(a.albedo, b.albedo)
     np.testing.assert_array_equal(a.light, b.light)
+
+
+def test_the_lights_gain_scales_each_colour_of_the_light(photo):
+    """The default scales each colour of the network's light to render the face best
+    (docs/photos.md, "The light's gain"); light_gain=False keeps the network's: the two lights
+    differ by one factor per colour, the shading by the same factors, the albedo and normals not."""
+    plain = facetool.load_model(light_gain=False).decompose(photo.image).faces[0]
+    gained = photo.faces[0]
+    gain = gained.light[:, 0] / plain.light[:, 0]
+    assert np.abs(gain - 1).max() > 1e-3
+    np.testing.assert_allclose(gained.light, plain.light * gain[:, None], rtol=1e-5, atol=1e-7)
+    np.testing.assert_allclose(gained.shading, plain.shading * gain[None, None, :], rtol=1e-5, atol=1e-6)
+    np.testing.assert_array_equal(gained.albedo, plain.albedo)
+    np.testing.assert_array_equal(gained.normal, plain.normal)
 
 
 @needs_photo_model

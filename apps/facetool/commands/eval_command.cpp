@@ -291,7 +291,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
        "summary, as one unsharded run writes them")
       ("contact-sheet", "also write contact_sheet.png: input, reconstruction, normal, true normal");
   add_mirror_average_option(options);
-  add_landmark_normals_option(options);
+  add_landmark_head_options(options);
   po::variables_map values;
   if (!parse_command_options(
           "eval [--model WEIGHTS] --data DIR -o OUT [--contact-sheet] [--shard i/n]\n"
@@ -342,7 +342,7 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   const std::shared_ptr<NetworkPlugin> network = loaded.network;
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
-  apply_landmark_normals_option(values, decomposer, loaded);
+  apply_landmark_head_options(values, decomposer, loaded);
   apply_mirror_average_option(values, decomposer);
   const int size = network->config().input_size;
   const size_t plane = static_cast<size_t>(size) * size;

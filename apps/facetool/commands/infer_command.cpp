@@ -138,7 +138,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER,
                                                  values["renderer"].as<std::string>());
   Decomposer decomposer(*network, *renderer);
-  apply_landmark_normals_option(values, decomposer, loaded);
+  apply_landmark_head_options(values, decomposer, loaded);
   apply_mirror_average_option(values, decomposer);
   // One run per output folder (the shards of one sharded run write disjoint names and share it).
   {

@@ -160,7 +160,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
        "label only the inputs i, i+n, i+2n, ... (Slurm array jobs; same file names as unsharded)");
   add_fit_options(options);
   add_mirror_average_option(options);
-  add_landmark_normals_option(options);
+  add_landmark_head_options(options);
   po::options_description hidden;
   hidden.add_options()("images", po::value<std::vector<std::string>>(), "inputs");
   po::positional_options_description positional;
@@ -234,7 +234,7 @@ int run_pseudo_label(CommandContext& context, const std::vector<std::string>& ar
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, "sh_renderer");
   Decomposer decomposer(*network, *renderer);
   apply_mirror_average_option(values, decomposer);
-  apply_landmark_normals_option(values, decomposer, loaded);
+  apply_landmark_head_options(values, decomposer, loaded);
   fs::create_directories(out_dir);
   check_input_folder(out_dir, "-o");
   // One run per output folder (the shards of one sharded run write disjoint names and share it).

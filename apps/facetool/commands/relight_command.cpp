@@ -155,7 +155,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   photo_options.prior_basis = basis.get();
   auto renderer = create_plugin<RendererPlugin>(context, FACETOOL_PLUGIN_RENDERER, values["renderer"].as<std::string>());
   Decomposer decomposer(*loaded.network, *renderer);
-  apply_landmark_normals_option(values, decomposer, loaded);
+  apply_landmark_head_options(values, decomposer, loaded);
   apply_mirror_average_option(values, decomposer);
   const int size = loaded.network->config().input_size;
   const std::unique_ptr<FaceDetector> detector = make_face_detector(photo_options);

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average and --no-landmark-normals.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals and --no-light-gain.
 #include "apps/facetool/infer/network_loading.h"
 
 #include "libs/model/default_model.h"
@@ -20,7 +20,7 @@ void add_network_options(po::options_description& options) {
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "the ICT-FaceKit FaceXModel folder: for a model that takes the fit's normals as input (docs/fit.md), and infer --with-fit");
   add_mirror_average_option(options);
-  add_landmark_normals_option(options);
+  add_landmark_head_options(options);
 }
 
 void add_mirror_average_option(po::options_description& options) {
@@ -33,16 +33,19 @@ void apply_mirror_average_option(const po::variables_map& values, Decomposer& de
   decomposer.set_mirror_average(values.count("no-mirror-average") == 0);
 }
 
-void add_landmark_normals_option(po::options_description& options) {
+void add_landmark_head_options(po::options_description& options) {
   options.add_options()
       ("no-landmark-normals", "the network's normals alone: without it, weights that carry a landmark normal head "
        "(the shipped model does) blend its normals, predicted from each face's landmarks, into the network's "
-       "(docs/model-card.md, \"The landmark normal head\")");
+       "(docs/model-card.md, \"The landmark normal head\"); also leaves the light's gain out")
+      ("no-light-gain", "the network's light as it is: without it, each colour of the light is scaled to render the "
+       "face best in the landmark normal head's face mask (docs/photos.md, \"The light's gain\")");
 }
 
-void apply_landmark_normals_option(const po::variables_map& values, Decomposer& decomposer,
-                                   const LoadedNetwork& loaded) {
+void apply_landmark_head_options(const po::variables_map& values, Decomposer& decomposer,
+                                 const LoadedNetwork& loaded) {
   decomposer.set_landmark_normals(values.count("no-landmark-normals") ? nullptr : loaded.landmark_normals.get());
+  decomposer.set_light_gain(values.count("no-light-gain") == 0);
 }
 
 std::vector<OptionRange> network_option_ranges() {

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average and --no-landmark-normals.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals and --no-light-gain.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -17,7 +17,7 @@
 namespace facetool {
 
 // --model, --init, --seed, --width, --input-size, --network, --face-model, --no-mirror-average,
-// --no-landmark-normals.
+// --no-landmark-normals, --no-light-gain.
 void add_network_options(boost::program_options::options_description& options);
 
 // --no-mirror-average, and applying it: the commands that run a trained network average each
@@ -25,11 +25,12 @@ void add_network_options(boost::program_options::options_description& options);
 void add_mirror_average_option(boost::program_options::options_description& options);
 void apply_mirror_average_option(const boost::program_options::variables_map& values, Decomposer& decomposer);
 
-// --no-landmark-normals, and applying it: the weights' landmark normal head, if they carry one
-// (libs/model/landmark_normals.h), is used unless told not to.
-void add_landmark_normals_option(boost::program_options::options_description& options);
-void apply_landmark_normals_option(const boost::program_options::variables_map& values, Decomposer& decomposer,
-                                   const LoadedNetwork& loaded);
+// --no-landmark-normals and --no-light-gain, and applying them: the weights' landmark normal head,
+// if they carry one (libs/model/landmark_normals.h), and the light's gain fitted in its face mask
+// (libs/inference/light_gain.h) are used unless told not to.
+void add_landmark_head_options(boost::program_options::options_description& options);
+void apply_landmark_head_options(const boost::program_options::variables_map& values, Decomposer& decomposer,
+                                 const LoadedNetwork& loaded);
 
 // Valid ranges of --seed, --width and --input-size (for check_option_ranges).
 std::vector<OptionRange> network_option_ranges();
