@@ -101,8 +101,8 @@ void to_halves_portable(const float* source, size_t stride, size_t n, unsigned c
   }
 }
 
-// The same with the F16C instructions, eight floats at a time, where the processor has them
-// (Imath's branching conversion is most of the encoding time otherwise).
+// The same with the F16C instructions, eight floats at a time, on processors with AVX2 (to_halves;
+// Imath's branching conversion is most of the encoding time otherwise).
 __attribute__((target("avx,f16c"))) void to_halves_f16c(const float* source, size_t stride, size_t n,
                                                         unsigned char* out) {
   size_t x = 0;
