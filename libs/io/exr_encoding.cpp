@@ -11,6 +11,7 @@
 #include <set>
 
 #include "core/util/error.h"
+#include "core/util/image_limits.h"
 #include "core/util/stage_timer.h"
 
 // The pixel loops copy floats and halves as they lie in memory; OpenEXR files are little-endian.
@@ -213,6 +214,14 @@ std::vector<unsigned char> encode_exr(const std::string& path, int width, int he
                                       const std::vector<std::pair<std::string, std::string>>& metadata) {
   StageTimer timer("encode");  // the header, the half conversion and the run-length coding
   check(width > 0 && height > 0 && !channels.empty(), "cannot write '", path, "': the image is empty");
+  // Never a file facetool would refuse to read back (which also keeps a line's bytes, at most
+  // 32768 x 64 x 4, far inside the chunk size's 32 bits).
+  const uint64_t pixels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+  check(width <= kMaxImageSide && height <= kMaxImageSide &&
+            static_cast<int64_t>(channels.size()) <= kMaxImageChannels && pixels <= kMaxImagePixels &&
+            pixels * channels.size() <= kMaxImageValues,
+        "cannot write '", path, "': ", width, " x ", height, " pixels with ", channels.size(),
+        " channels is more than facetool reads back (docs/input-limits.md)");
   // The format orders channels by name (bytewise); the pixels of a line follow that order.
   std::vector<const ExrChannel*> sorted;
   for (const ExrChannel& c : channels) {

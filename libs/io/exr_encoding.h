@@ -25,7 +25,8 @@ struct ExrChannel {
 // rounded as Imath::half rounds), and `metadata` as string attributes of the header. The header
 // lists the channels sorted by name, as the format requires; readers give them back by name.
 // `path` only names the file in error messages. Throws facetool::Error on empty or unnamed
-// channels, repeated names, or names longer than the format's 255 bytes.
+// channels, repeated names, names longer than the format's 255 bytes, or an image larger than
+// facetool reads (core/util/image_limits.h).
 std::vector<unsigned char> encode_exr(const std::string& path, int width, int height,
                                       const std::vector<ExrChannel>& channels,
                                       const std::vector<std::pair<std::string, std::string>>& metadata);

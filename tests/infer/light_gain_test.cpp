@@ -1,6 +1,7 @@
 // The light's gain (libs/inference/light_gain.h): the fitted gain is the least-squares scale per
-// colour in the mask (checked by perturbing it), degenerate crops keep or clamp the light, and the
-// decomposer's gained shading is what the renderer gives for the gained light.
+// colour in the mask (checked by perturbing it), one gain for a grey crop, degenerate crops keep
+// or clamp the light, and the decomposer's gained shading is what the renderer gives for the
+// gained light.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,6 +59,29 @@ TEST(FitLightGain, IsTheLeastSquaresScale) {
     const double best = masked_error(r, image, mask, c, gain[c]);
     for (const double step : {-1e-2, -1e-3, 1e-3, 1e-2}) EXPECT_LT(best, masked_error(r, image, mask, c, gain[c] + step));
   }
+}
+
+// A grey crop (three equal channels) gets one gain, the least-squares one over all three colours,
+// even when the reconstruction is coloured; a crop differing in one pixel gets three.
+TEST(FitLightGain, AGreyCropGetsOneGainForTheThreeColours) {
+  const size_t plane = 300;
+  const std::vector<float> r = testing::random_values(3 * plane, 7, 0.1f, 1.0f);
+  std::vector<float> image(3 * plane);
+  const std::vector<float> grey = testing::random_values(plane, 8, 0.0f, 1.0f);
+  for (int c = 0; c < 3; ++c) std::copy(grey.begin(), grey.end(), image.begin() + c * plane);
+  const std::vector<float> mask(plane, 1.0f);
+  const std::array<float, 3> gain = fit_light_gain(r.data(), image.data(), mask.data(), plane);
+  EXPECT_EQ(gain[0], gain[1]);
+  EXPECT_EQ(gain[1], gain[2]);
+  auto total = [&](double g) {
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += masked_error(r, image, mask, c, g);
+    return sum;
+  };
+  for (const double step : {-1e-2, -1e-3, 1e-3, 1e-2}) EXPECT_LT(total(gain[0]), total(gain[0] + step));
+  image[plane + 5] += 0.01f;  // no longer grey
+  const std::array<float, 3> colour = fit_light_gain(r.data(), image.data(), mask.data(), plane);
+  EXPECT_FALSE(colour[0] == colour[1] && colour[1] == colour[2]);
 }
 
 TEST(FitLightGain, DegenerateCropsKeepOrClampTheLight) {

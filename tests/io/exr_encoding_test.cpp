@@ -1,7 +1,8 @@
 // encode_exr against OpenImageIO's EXR reader (OpenEXR): channels given in any order, halves and
 // floats, long names, one-pixel and noisy images come back bit for bit with their metadata; the
 // run-length stream expands, by a plain decoder written from the format's description, to the
-// bytes coded; the files are no larger than OpenEXR's own RLE files; bad names are refused.
+// bytes coded; the files are no larger than OpenEXR's own RLE files; bad names and images larger than
+// facetool reads are refused.
 #include <gtest/gtest.h>
 #include <Imath/half.h>
 #include <OpenImageIO/filesystem.h>
@@ -201,7 +202,7 @@ TEST(ExrEncoding, FilesAreNoLargerThanOpenExrsOwnRunLengthFiles) {
   EXPECT_LT(mine.size(), static_cast<size_t>(w) * h * (2 * 4 + 4 * 2) / 3) << "compressed";
 }
 
-TEST(ExrEncoding, BadNamesAreRefusedWithTheName) {
+TEST(ExrEncoding, BadNamesAndOversizedImagesAreRefusedWithTheName) {
   std::vector<float> plane(4, 1.0f);
   auto refused = [&](const std::vector<ExrChannel>& channels,
                      const std::vector<std::pair<std::string, std::string>>& metadata, const std::string& says) {
@@ -220,6 +221,17 @@ TEST(ExrEncoding, BadNamesAreRefusedWithTheName) {
   refused({{"R", plane.data()}}, {{"channels", "x"}}, "'channels' is given twice or is one of the format's own");
   refused({{"R", plane.data()}}, {{"a", "1"}, {"a", "2"}}, "'a' is given twice");
   refused({}, {}, "the image is empty");
+  std::vector<ExrChannel> many;
+  for (int c = 0; c < 65; ++c) many.push_back({"c" + std::to_string(c), plane.data()});
+  refused(many, {}, "2 x 2 pixels with 65 channels is more than facetool reads back");
+  std::vector<float> row(32769, 0.0f);
+  try {
+    encode_exr("out/wide.exr", 32769, 1, {{"R", row.data()}}, {});
+    ADD_FAILURE() << "a 32769-pixel-wide image accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("32769 x 1 pixels with 1 channels is more than facetool reads back"),
+              std::string::npos) << e.what();
+  }
   // 255 bytes is still a name.
   const Decoded d = decode(encode_exr("long.exr", 2, 2, {{std::string(255, 'n'), plane.data()}}, {}));
   ASSERT_EQ(d.names.size(), 1u);
