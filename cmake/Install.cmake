@@ -2,7 +2,7 @@
 # core: photos, decomposition, relighting, training), the shipped plugins and backend modules, the
 # models, and the SDK (headers, CMake package, pkg-config); cpack -G DEB makes the packages
 # facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
-#   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules>
+#   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules, the OpenImageIO module>
 #   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  share/facetool/dlib/ (dlib's HOG
 #   face detector decoded at build time and its landmark model as plain arrays:
 #   libs/face/CMakeLists.txt)  include/facetool/{core,libs}/...
@@ -29,7 +29,7 @@ set(FACETOOL_PUBLIC_HEADERS
   core/sh/sphere_samples.h core/sh/pixel_transfer.h
   core/util/error.h core/util/math_constants.h core/util/atomic_file.h core/util/folder_lock.h)
 # The C++ API (facetool::facetool, docs/api.md): the headers of every library above the core,
-# except those that include a third-party header (OpenImageIO's image_encoding.h and its users);
+# except those that include a third-party header;
 # the core headers they include are among the plugin SDK's above. check-sdk.sh compiles each alone.
 get_property(api_libraries GLOBAL PROPERTY FACETOOL_LIBRARIES)
 set(api_headers "")
@@ -39,7 +39,7 @@ foreach(library ${api_libraries})
   list(APPEND api_headers ${headers})
 endforeach()
 foreach(header ${api_headers})
-  file(STRINGS ${header} third_party REGEX "#include <(OpenImageIO|embree|dlib|mpi|boost|nlohmann)|#include \"libs/io/image_encoding.h\"")
+  file(STRINGS ${header} third_party REGEX "#include <(OpenImageIO|embree|dlib|mpi|boost|nlohmann)")
   if(third_party)
     continue()
   endif()
@@ -61,6 +61,9 @@ install(TARGETS facetool_core EXPORT facetoolTargets
         LIBRARY DESTINATION lib COMPONENT runtime)
 set_target_properties(facetool_api PROPERTIES INSTALL_RPATH "$ORIGIN")
 install(TARGETS facetool_api EXPORT facetoolTargets LIBRARY DESTINATION lib COMPONENT runtime)
+# The OpenImageIO module (libs/io/openimageio), found where the backend modules are.
+set_target_properties(facetool_openimageio PROPERTIES INSTALL_RPATH "$ORIGIN/..:$ORIGIN")
+install(TARGETS facetool_openimageio LIBRARY DESTINATION lib/facetool COMPONENT runtime)
 if(TARGET facetool_backend_opencl)
   set_target_properties(facetool_backend_opencl PROPERTIES INSTALL_RPATH "$ORIGIN/..")
   install(TARGETS facetool_backend_opencl LIBRARY DESTINATION lib/facetool COMPONENT runtime)

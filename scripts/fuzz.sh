@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:-all}
 seconds=${2:-60}
-all_targets=(safetensors light_json light_text obj synth_sample plugin_descriptor)
+all_targets=(safetensors light_json light_text obj synth_sample plugin_descriptor image_file)
 if [ "$target" = all ]; then
   targets=("${all_targets[@]}")
 elif [[ " ${all_targets[*]} " == *" $target "* ]]; then

@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools
   libimath-dev   # Imath's half type: photo.exr's 16-bit channels (comes with OpenImageIO's headers)
   libdeflate-dev  # the PNGs facetool writes (docs/dependencies.md)
+  libjpeg62-turbo-dev libpng-dev  # reading JPEG and PNG photos (OpenImageIO is loaded for other formats only)
   libboost-program-options-dev googletest libgtest-dev nlohmann-json3-dev
   blender-data   # 8 CC0 studio-light EXRs: facetool synth's default lights
   libdlib-dev libdlib-data  # photos: HOG face detector and the 68-point landmark model

@@ -35,70 +35,34 @@ Registry& registry() {
   return *r;
 }
 
-std::vector<std::string> module_search_dirs() {
-  std::vector<std::string> dirs;
-  if (const char* env = std::getenv("FACETOOL_BACKEND_PATH"))
-    for (auto& d : split_path_list(env)) dirs.push_back(d);
-  const std::string exe = executable_dir();
-  if (!exe.empty()) {
-    dirs.push_back(exe);
-    dirs.push_back(exe + "/../lib/facetool");
-  }
-  // Beside libfacetool_core (the build tree's bin/) and in its facetool/ folder (an installed
-  // prefix's lib/facetool), for programs that do not live beside the modules.
-  const std::string core = core_library_dir();
-  if (!core.empty()) {
-    dirs.push_back(core);
-    dirs.push_back(core + "/facetool");
-  }
-  // The same folder reached twice (FACETOOL_BACKEND_PATH pointing beside the executable) once.
-  std::vector<std::string> unique;
-  for (const std::string& d : dirs) {
-    std::error_code ec;
-    const std::string canonical = std::filesystem::weakly_canonical(d, ec).string();
-    const std::string key = ec ? d : canonical;
-    if (std::find(unique.begin(), unique.end(), key) == unique.end()) unique.push_back(key);
-  }
-  return unique;
-}
-
 ModuleSlot load_module(const std::string& name) {
   ModuleSlot slot;
   const std::string file = "facetool_backend_" + name + ".so";
-  std::string tried;
-  for (const std::string& dir : module_search_dirs()) {
-    const std::string path = dir + "/" + file;
-    if (!std::filesystem::exists(path)) {
-      tried += "\n  " + path;
-      continue;
-    }
-    try {
-      SharedLibrary lib = SharedLibrary::open(path);
-      auto entry = reinterpret_cast<facetool_backend_module_entry_fn>(
-          lib.symbol(FACETOOL_BACKEND_MODULE_ENTRY_SYMBOL));
-      if (!entry) {
-        slot.reason = path + " does not export " FACETOOL_BACKEND_MODULE_ENTRY_SYMBOL;
-        return slot;
-      }
-      const facetool_backend_module_descriptor* d = entry();
-      if (d->api_version != FACETOOL_BACKEND_MODULE_API_VERSION) {
-        slot.reason = path + " was built for backend API version " +
-                      std::to_string(d->api_version) + " but facetool uses version " +
-                      std::to_string(FACETOOL_BACKEND_MODULE_API_VERSION) +
-                      "; rebuild it with this facetool";
-        return slot;
-      }
-      slot.module.reset(d->create_module());
-      return slot;
-    } catch (const Error& e) {
-      slot.reason = std::string(e.what()) +
-                    " (is the OpenCL ICD loader installed? apt-get install ocl-icd-libopencl1)";
+  const std::string path = find_module_file(file, "FACETOOL_BACKEND_PATH", slot.reason);
+  if (path.empty()) return slot;
+  try {
+    SharedLibrary lib = SharedLibrary::open(path);
+    auto entry = reinterpret_cast<facetool_backend_module_entry_fn>(
+        lib.symbol(FACETOOL_BACKEND_MODULE_ENTRY_SYMBOL));
+    if (!entry) {
+      slot.reason = path + " does not export " FACETOOL_BACKEND_MODULE_ENTRY_SYMBOL;
       return slot;
     }
+    const facetool_backend_module_descriptor* d = entry();
+    if (d->api_version != FACETOOL_BACKEND_MODULE_API_VERSION) {
+      slot.reason = path + " was built for backend API version " +
+                    std::to_string(d->api_version) + " but facetool uses version " +
+                    std::to_string(FACETOOL_BACKEND_MODULE_API_VERSION) +
+                    "; rebuild it with this facetool";
+      return slot;
+    }
+    slot.module.reset(d->create_module());
+    return slot;
+  } catch (const Error& e) {
+    slot.reason = std::string(e.what()) +
+                  " (is the OpenCL ICD loader installed? apt-get install ocl-icd-libopencl1)";
+    return slot;
   }
-  slot.reason = "module " + file + " not found; looked in:" + tried +
-                "\n  set FACETOOL_BACKEND_PATH to the folder holding it";
-  return slot;
 }
 
 ModuleSlot& module_slot(const std::string& name) {

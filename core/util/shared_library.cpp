@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 #include "core/util/elf_check.h"
@@ -41,6 +42,43 @@ std::string core_library_dir() {
   const auto path = std::filesystem::canonical(info.dli_fname, ec);
   if (ec) return "";
   return path.parent_path().string();
+}
+
+std::vector<std::string> module_search_dirs(const char* env_var) {
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv(env_var))
+    for (auto& d : split_path_list(env)) dirs.push_back(d);
+  const std::string exe = executable_dir();
+  if (!exe.empty()) {
+    dirs.push_back(exe);
+    dirs.push_back(exe + "/../lib/facetool");
+  }
+  const std::string core = core_library_dir();
+  if (!core.empty()) {
+    dirs.push_back(core);
+    dirs.push_back(core + "/facetool");
+  }
+  // The same folder reached twice (the variable pointing beside the executable) once.
+  std::vector<std::string> unique;
+  for (const std::string& d : dirs) {
+    std::error_code ec;
+    const std::string canonical = std::filesystem::weakly_canonical(d, ec).string();
+    const std::string key = ec ? d : canonical;
+    if (std::find(unique.begin(), unique.end(), key) == unique.end()) unique.push_back(key);
+  }
+  return unique;
+}
+
+std::string find_module_file(const std::string& file, const char* env_var, std::string& not_found) {
+  std::string tried;
+  for (const std::string& dir : module_search_dirs(env_var)) {
+    const std::string path = dir + "/" + file;
+    if (std::filesystem::exists(path)) return path;
+    tried += "\n  " + path;
+  }
+  not_found = "module " + file + " not found; looked in:" + tried + "\n  set " + env_var +
+              " to the folder holding it";
+  return "";
 }
 
 std::vector<std::string> split_path_list(const std::string& list) {

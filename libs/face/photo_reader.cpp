@@ -1,15 +1,10 @@
 // Photo reading with EXIF orientation.
 #include "libs/face/photo_reader.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include "core/util/error.h"
-#include "core/util/file_checks.h"
 #include "core/util/stage_timer.h"
 
 namespace facetool {
-
-namespace OIIO = OIIO_NAMESPACE;
 
 RgbImage apply_exif_orientation(const RgbImage& in, int orientation) {
   if (orientation < 2 || orientation > 8) return in;
@@ -43,21 +38,9 @@ RgbImage apply_exif_orientation(const RgbImage& in, int orientation) {
 RgbImage read_photo(const std::string& path) {
   StageTimer timer("decode");
   int orientation = 1;
-  bool is_float = false;
-  // A pipe or device would block OpenImageIO's open below; a folder is not "not an image".
-  check_regular_input_file(path, kMaxImageFileBytes, "photo");
-  {
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto input = OIIO::ImageInput::open(path, &config);
-    if (!input)
-      fail("cannot read photo '", path, "': ", OIIO::geterror(),
-           " (check that the file exists and is an image OpenImageIO can read)");
-    orientation = input->spec().get_int_attribute("Orientation", 1);
-    const OIIO::TypeDesc format = input->spec().format;
-    is_float = format.is_floating_point();
-  }
-  return apply_exif_orientation(read_rgb_image(path, !is_float), orientation);
+  RgbImage stored = read_rgb_image_as_encoded(path, orientation, "photo");
+  if (orientation == 1) return stored;
+  return apply_exif_orientation(stored, orientation);
 }
 
 }  // namespace facetool

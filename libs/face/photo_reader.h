@@ -1,4 +1,4 @@
-// Reading a photo for detection: any format OpenImageIO reads, EXIF orientation applied.
+// Reading a photo for detection: JPEG, PNG or any format OpenImageIO reads, EXIF orientation applied.
 #pragma once
 
 #include <string>

@@ -1,7 +1,5 @@
-// EXR files of named float channels: written by exr_encoding, read through OpenImageIO.
+// EXR files of named float channels: written by exr_encoding, read through OpenImageIO (image_file.h).
 #include "libs/io/exr_io.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cctype>
@@ -10,6 +8,7 @@
 #include <memory>
 
 #include "core/util/atomic_file.h"
+#include "libs/io/image_file.h"
 #include "libs/io/image_io.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
@@ -17,20 +16,16 @@
 
 namespace facetool {
 
-namespace OIIO = OIIO_NAMESPACE;
-
 namespace {
 
 // The file's own string attributes. OpenImageIO adds its description of the file it read
 // ("compression", the "oiio:" names): those are not metadata, and writing them back would ask the
 // encoder to store the format's own attribute.
-void read_metadata(const OIIO::ImageSpec& spec, const std::string& prefix, LayeredImage& image) {
-  for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
-    if (attribute.type() != OIIO::TypeDesc::STRING) continue;
-    const std::string name = attribute.name().string();
+void read_metadata(const ImageFileHeader& header, const std::string& prefix, LayeredImage& image) {
+  for (const auto& [name, value] : header.attributes) {
     if (name.compare(0, prefix.size(), prefix) != 0) continue;
     if (name == "compression" || name.compare(0, 5, "oiio:") == 0) continue;
-    image.metadata.emplace_back(name, attribute.get_string());
+    image.metadata.emplace_back(name, value);
   }
 }
 
@@ -41,15 +36,12 @@ std::string kind_of(const std::string& path) {
   return extension == ".exr" ? "EXR" : "image";
 }
 
-std::unique_ptr<OIIO::ImageInput> open_exr(const std::string& path) {
+std::unique_ptr<ImageFileReader> open_exr(const std::string& path) {
   const std::string kind = kind_of(path);
   check_regular_input_file(path, kMaxImageFileBytes, kind);
-  auto input = OIIO::ImageInput::open(path);
-  if (!input)
-    fail("cannot read ", kind, " '", path, "': ", OIIO::geterror(),
-         " (a damaged or unsupported file: replace or regenerate it)");
-  const OIIO::ImageSpec& spec = input->spec();
-  check_image_dimensions(path, spec.width, spec.height, spec.nchannels, kind);
+  std::unique_ptr<ImageFileReader> input = open_image_file(path, kind);
+  const ImageFileHeader& header = input->header();
+  check_image_dimensions(path, header.width, header.height, header.channels, kind);
   return input;
 }
 
@@ -72,31 +64,27 @@ void write_exr_atomically(const std::string& path, const LayeredImage& image) {
 
 LayeredImage read_exr(const std::string& path, const std::string& metadata_prefix) {
   auto input = open_exr(path);
-  const OIIO::ImageSpec& spec = input->spec();
-  LayeredImage image(spec.width, spec.height, spec.channelnames);
-  std::vector<float> interleaved(image.plane_size() * spec.nchannels);
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, interleaved.data()))
-    fail("cannot read the pixels of ", kind_of(path), " '", path, "': ", input->geterror(),
-         " (the file is truncated or damaged: replace or regenerate it)");
-  const size_t channels = static_cast<size_t>(spec.nchannels);
+  const ImageFileHeader& header = input->header();
+  LayeredImage image(static_cast<int>(header.width), static_cast<int>(header.height), header.channel_names);
+  std::vector<float> interleaved(image.plane_size() * header.channels);
+  input->read_floats(interleaved.data());
+  const size_t channels = static_cast<size_t>(header.channels);
   for (size_t c = 0; c < channels; ++c) {
     float* target = image.plane(static_cast<int>(c));
     for (size_t p = 0; p < image.plane_size(); ++p) target[p] = interleaved[p * channels + c];
   }
-  read_metadata(spec, metadata_prefix, image);
-  input->close();
+  read_metadata(header, metadata_prefix, image);
   return image;
 }
 
 LayeredImage read_exr_header(const std::string& path, const std::string& metadata_prefix) {
   auto input = open_exr(path);
-  const OIIO::ImageSpec& spec = input->spec();
+  const ImageFileHeader& header = input->header();
   LayeredImage image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.channel_names = spec.channelnames;
-  read_metadata(spec, metadata_prefix, image);
-  input->close();
+  image.width = static_cast<int>(header.width);
+  image.height = static_cast<int>(header.height);
+  image.channel_names = header.channel_names;
+  read_metadata(header, metadata_prefix, image);
   return image;
 }
 

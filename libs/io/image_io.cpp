@@ -1,7 +1,5 @@
-// RGB image reading and PNG writing through OpenImageIO.
+// RGB image reading (libs/io/image_file.h) and PNG writing (png_encoding.h).
 #include "libs/io/image_io.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
@@ -14,6 +12,7 @@
 #include <new>
 
 #include "core/util/atomic_file.h"
+#include "libs/io/image_file.h"
 #include "libs/io/jpeg_check.h"
 #include "libs/io/png_encoding.h"
 #include "core/util/error.h"
@@ -23,8 +22,6 @@
 #include "core/util/stage_timer.h"
 
 namespace facetool {
-
-namespace OIIO = OIIO_NAMESPACE;
 
 float linear_to_srgb(float linear) {
   const float x = std::clamp(linear, 0.0f, 1.0f);
@@ -111,39 +108,28 @@ void check_image_header_plausible(const std::string& path, const std::string& fo
 namespace {
 
 // Opens `path` (already checked to be a regular file of `file_bytes` bytes) and checks its header.
-std::unique_ptr<OIIO::ImageInput> open_image_for_reading(const std::string& path,
-                                                         uint64_t file_bytes) {
-  // Alpha is dropped (docs/photos.md), so colours are read as stored: OpenImageIO would
-  // otherwise multiply them by alpha (a half-transparent face comes out darker).
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto input = OIIO::ImageInput::open(path, &config);
-  if (!input)
-    fail("cannot read image '", path, "': ", OIIO::geterror(),
-         " (check that the file is a complete image OpenImageIO can read)");
-  const OIIO::ImageSpec& spec = input->spec();
-  check_image_dimensions(path, spec.width, spec.height, spec.nchannels);
-  check_image_header_plausible(path, input->format_name(), spec.width, spec.height, file_bytes);
-  if (std::string(input->format_name()) == "jpeg")
+std::unique_ptr<ImageFileReader> open_image_for_reading(const std::string& path, uint64_t file_bytes,
+                                                       const std::string& kind) {
+  std::unique_ptr<ImageFileReader> reader = open_image_file(path, kind);
+  const ImageFileHeader& header = reader->header();
+  check_image_dimensions(path, header.width, header.height, header.channels);
+  check_image_header_plausible(path, header.format, header.width, header.height, file_bytes);
+  if (header.format == "jpeg")
     check(jpeg_is_complete(path), "image '", path, "' is a truncated JPEG: the file ends before ",
           "its image does (an interrupted download or copy?); replace it with a complete file");
-  return input;
+  return reader;
 }
 
-}  // namespace
-
-RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
-  const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, "image");
-  auto input = open_image_for_reading(path, file_bytes);
-  const OIIO::ImageSpec& spec = input->spec();
-  const int channels = spec.nchannels;
-  const size_t count = static_cast<size_t>(spec.width) * spec.height;
-  const std::string what = "reading image '" + path + "' of " + std::to_string(spec.width) + "x" +
-                           std::to_string(spec.height) + " pixels";
-  // 8-bit files are read as bytes and turned into floats by a table of their 256 values (the
-  // floats OpenImageIO would give, decoded as below: the same result, without a power function
-  // per value); other files as floats. The decoded channels and the RGB floats live at once.
-  const bool bytes = spec.format == OIIO::TypeDesc::UINT8;
+RgbImage read_rgb(ImageFileReader& reader, const std::string& path, bool decode_srgb) {
+  const ImageFileHeader& header = reader.header();
+  const int channels = header.channels;
+  const size_t count = static_cast<size_t>(header.width) * header.height;
+  const std::string what = "reading image '" + path + "' of " + std::to_string(header.width) + "x" +
+                           std::to_string(header.height) + " pixels";
+  // 8-bit files are read as bytes and turned into floats by a table of their 256 values (v / 255,
+  // decoded as below: the same result, without a power function per value); other files as
+  // floats. The decoded channels and the RGB floats live at once.
+  const bool bytes = header.eight_bit;
   const size_t raw_bytes = count * channels * (bytes ? 1 : sizeof(float));
   check_memory_budget(raw_bytes + count * 3 * sizeof(float), what);
   std::vector<float> raw;
@@ -158,20 +144,18 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   } catch (const std::bad_alloc&) {
     throw out_of_memory(what, raw_bytes + count * 3 * sizeof(float));
   }
-  if (!input->read_image(0, 0, 0, channels, bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT,
-                         bytes ? static_cast<void*>(raw8.data()) : static_cast<void*>(raw.data())))
-    fail("cannot read the pixels of image '", path, "': ", input->geterror(),
-         " (the file is truncated or damaged: replace it)");
-  input->close();
-  image.width = spec.width;
-  image.height = spec.height;
+  if (bytes)
+    reader.read_bytes(raw8.data());
+  else
+    reader.read_floats(raw.data());
+  image.width = static_cast<int>(header.width);
+  image.height = static_cast<int>(header.height);
   if (bytes) {
-    std::array<uint8_t, 256> levels;
     std::array<float, 256> table;
-    for (int k = 0; k < 256; ++k) levels[k] = static_cast<uint8_t>(k);
-    OIIO::convert_pixel_values(OIIO::TypeDesc::UINT8, levels.data(), OIIO::TypeDesc::FLOAT, table.data(), 256);
-    if (decode_srgb)
-      for (float& v : table) v = srgb_to_linear(v);
+    for (int k = 0; k < 256; ++k) {
+      table[k] = static_cast<float>(k) * (1.0f / 255.0f);
+      if (decode_srgb) table[k] = srgb_to_linear(table[k]);
+    }
     for (size_t p = 0; p < count; ++p)
       for (int c = 0; c < 3; ++c) image.pixels[p * 3 + c] = table[raw8[p * channels + (channels >= 3 ? c : 0)]];
     return image;
@@ -181,11 +165,26 @@ RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
       const int source_channel = channels >= 3 ? c : 0;  // grey (+ alpha) replicates channel 0
       const float value = raw[p * channels + source_channel];
       check(std::isfinite(value), "image '", path, "' holds a NaN or infinite value at pixel (",
-            p % spec.width, ", ", p / spec.width, ") channel ", source_channel,
+            p % header.width, ", ", p / header.width, ") channel ", source_channel,
             "; fix or regenerate the file");
       image.pixels[p * 3 + c] = decode_srgb ? srgb_to_linear(value) : value;
     }
   return image;
+}
+
+}  // namespace
+
+RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
+  const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, "image");
+  std::unique_ptr<ImageFileReader> reader = open_image_for_reading(path, file_bytes, "image");
+  return read_rgb(*reader, path, decode_srgb);
+}
+
+RgbImage read_rgb_image_as_encoded(const std::string& path, int& orientation, const char* kind) {
+  const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, kind);
+  std::unique_ptr<ImageFileReader> reader = open_image_for_reading(path, file_bytes, kind);
+  orientation = reader->header().orientation;
+  return read_rgb(*reader, path, !reader->header().floating);
 }
 
 std::vector<unsigned char> encode_png(const std::string& path, const RgbImage& rgb,

@@ -24,7 +24,7 @@ struct RgbImage {
 RgbImage rgb_from_planar(const float* planar, int width, int height);
 std::vector<float> planar_from_rgb(const RgbImage& image);
 
-// Reads any format OpenImageIO knows. Grey images are replicated to RGB, alpha is dropped (the
+// Reads JPEG, PNG and any format OpenImageIO knows (image_file.h). Grey images are replicated to RGB, alpha is dropped (the
 // colours are taken as stored, not multiplied by alpha). A truncated JPEG is refused, and so is
 // a header claiming more pixels than the file can hold; the pixel memory is checked against what
 // the machine has (memory_budget.h: "out of memory while reading image ...").
@@ -32,6 +32,11 @@ std::vector<float> planar_from_rgb(const RgbImage& image);
 // `decode_srgb` to convert them to linear. Throws facetool::Error naming the file, also for
 // a NaN or infinite value (naming the pixel) and for a header beyond core/util/image_limits.h.
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb = false);
+// read_rgb_image deciding the decoding by the file, as photos are read: integer samples (8- and
+// 16-bit) taken as sRGB and decoded to linear, floating-point samples (EXR, HDR) as they are; the
+// file's EXIF orientation (1-8, 1 where it has none) in `orientation`, not applied. `kind` names
+// the file in messages ("photo 'a.jpg' ...").
+RgbImage read_rgb_image_as_encoded(const std::string& path, int& orientation, const char* kind = "image");
 
 // Refuses (facetool::Error naming the file) a PNG or JPEG header that claims more pixels than a
 // file of `file_bytes` bytes can hold: a cut-off or damaged file, caught before its pixels are

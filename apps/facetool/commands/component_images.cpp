@@ -21,7 +21,7 @@ std::string lower_extension(const std::string& path) {
   return extension;
 }
 
-// Every channel of the file, through OpenImageIO (read_exr reads any format it knows).
+// Every channel of the file (read_exr reads any image: JPEG and PNG itself, others through OpenImageIO).
 LayeredImage read_any(const std::string& option, const std::string& path) {
   check_regular_input_file(path, kMaxImageFileBytes, option);
   try {

@@ -22,7 +22,7 @@ struct ComponentImage {
 };
 
 // File encodings, chosen by extension: .exr, .hdr and .pfm hold linear floats as they are;
-// anything else (PNG, ...) is an encoded 8/16-bit image whose values OpenImageIO scales to [0, 1].
+// anything else (PNG, ...) is an encoded 8/16-bit image whose values are read scaled to [0, 1].
 bool is_float_image_file(const std::string& path);
 
 // A face crop file as linear RGB: 8/16-bit files decoded from sRGB, float files as they are; a

@@ -1,0 +1,89 @@
+// open_image_file: JPEG and PNG told by their first bytes and decoded here, any other format through the OpenImageIO module, loaded on first use.
+#include "libs/io/image_file.h"
+
+#include <cstring>
+#include <string>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+#include "core/util/error.h"
+#include "core/util/shared_library.h"
+#include "libs/io/jpeg_decoding.h"
+#include "libs/io/openimageio_module.h"
+#include "libs/io/png_decoding.h"
+
+namespace facetool {
+namespace {
+
+constexpr const char* kModuleFile = "facetool_openimageio.so";
+
+// The module's table, loaded once per process (thread-safe); null if it cannot be loaded, with
+// `why` saying why (the same for every later call).
+const OpenImageIoModule* openimageio_module(std::string& why) {
+  static std::once_flag once;
+  static const OpenImageIoModule* module = nullptr;
+  static std::string failure;
+  std::call_once(once, [] {
+    const std::string path = find_module_file(kModuleFile, "FACETOOL_BACKEND_PATH", failure);
+    if (path.empty()) {
+      failure += " (reinstall facetool)";
+      return;
+    }
+    try {
+      SharedLibrary library = SharedLibrary::open(path);
+      auto entry = reinterpret_cast<facetool_openimageio_module_fn>(
+          library.symbol(FACETOOL_OPENIMAGEIO_MODULE_ENTRY_SYMBOL));
+      if (entry == nullptr) {
+        failure = path + " does not export " FACETOOL_OPENIMAGEIO_MODULE_ENTRY_SYMBOL + std::string("; rebuild facetool");
+      } else if (entry()->version != FACETOOL_OPENIMAGEIO_MODULE_VERSION) {
+        failure = path + " is of another facetool version (module version " + std::to_string(entry()->version) +
+                  ", facetool's " + std::to_string(FACETOOL_OPENIMAGEIO_MODULE_VERSION) + "); rebuild or reinstall facetool";
+      } else {
+        module = entry();
+      }
+    } catch (const Error& e) {
+      failure = std::string(e.what()) + " (is OpenImageIO installed? apt-get install libopenimageio2.4)";
+    }
+  });
+  why = failure;
+  return module;
+}
+
+enum class Format { kJpeg, kPng, kOther };
+
+Format sniff(const std::string& path) {
+  unsigned char magic[8] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(magic), sizeof magic);
+  const std::streamsize got = in.gcount();
+  if (got >= 3 && magic[0] == 0xff && magic[1] == 0xd8 && magic[2] == 0xff) return Format::kJpeg;
+  if (got == 8 && std::memcmp(magic, "\x89PNG\r\n\x1a\n", 8) == 0) return Format::kPng;
+  return Format::kOther;
+}
+
+}  // namespace
+
+std::unique_ptr<ImageFileReader> open_image_file(const std::string& path, const std::string& kind) {
+  switch (sniff(path)) {
+    case Format::kJpeg: return open_jpeg_file(path, kind);
+    case Format::kPng: return open_png_file(path, kind);
+    case Format::kOther: break;
+  }
+  std::string why;
+  const OpenImageIoModule* module = openimageio_module(why);
+  check(module != nullptr, "cannot read ", kind, " '", path, "': it is neither JPEG nor PNG, and the module ",
+        "that reads other formats through OpenImageIO cannot be loaded: ", why);
+  return module->open(path, kind);
+}
+
+void write_gif_frames(const std::string& path, int width, int height,
+                      const std::vector<std::vector<uint8_t>>& frames, int frames_per_second) {
+  std::string why;
+  const OpenImageIoModule* module = openimageio_module(why);
+  check(module != nullptr, "cannot write animated GIF '", path, "': the module that writes GIFs through ",
+        "OpenImageIO cannot be loaded: ", why);
+  module->write_gif(path, width, height, frames, frames_per_second);
+}
+
+}  // namespace facetool
