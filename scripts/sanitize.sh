@@ -23,8 +23,10 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFACETOOL_BUI
 # SH library, autograd, the cpu backend's bad-input checks, the renderer plugin, synth sample I/O
 # and errors, the dataset reader, the landmark model's copy (its build step runs under the
 # sanitizers too), the landmark normal head, the EXR encoder, the JPEG and PNG readers and the
-# OpenImageIO module's loading, the light's gain, inference, the command line and the thread pool.
-subset_targets=(facetool facetool_models sh_renderer paper_network
+# OpenImageIO module's loading, the light's gain, inference, the command line and its table of
+# bad inputs (cli_bad_input_*: every command, damaged files, full disks, limits, signals), and the
+# thread pool.
+subset_targets=(facetool facetool_models sh_renderer paper_network paper_losses
   good_loss second_good_loss null_create wrong_version no_entry unknown_kind old_version other_abi
   safetensors_test light_formats_test plugin_loader_test sh_tests autograd_test cpu_bad_input_test
   renderer_tests synth_io_test synth_errors_test synth_dataset_test infer_test light_cli_test
@@ -47,10 +49,8 @@ else
   # Left out: the cpu/opencl parity sweep and other opencl tests (no OpenCL here), the PyTorch
   # parity runs (Python, minutes under ASan), the Yale B benchmark test (Python only), the
   # performance test (timings only), and the
-  # script tests that drive programs outside the subset (training, MPI ranks, sharding) or the
-  # whole CLI table (cli_bad_input_*: OpenImageIO leaks on libpng's error path, which LeakSanitizer
-  # reports in every damaged-PNG case; scripts/valgrind-cli.sh covers those paths instead).
+  # script tests that drive programs outside the subset (training, MPI ranks, sharding).
   # Tests of programs outside the subset show up as <program>_NOT_BUILT.
-  selection=(-E "_NOT_BUILT|Parity|[Oo]pencl|ProgramCache|pytorch_parity|SynthPerformance|cli_bad_input|distributed_|eval_shards|train_cli|yaleb_benchmark")
+  selection=(-E "_NOT_BUILT|Parity|[Oo]pencl|ProgramCache|pytorch_parity|SynthPerformance|distributed_|eval_shards|train_cli|yaleb_benchmark")
 fi
 ctest --test-dir "$build" -j "$jobs" --timeout 900 --output-on-failure "${selection[@]}"

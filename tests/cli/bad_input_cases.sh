@@ -744,6 +744,12 @@ while IFS='|' read -r kind path; do
   done < <(file_slots)
 done < <(bad_files)
 while IFS='|' read -r name needle line; do
+  # A bad device index is the opencl module's to name; a build without it (the sanitizer build)
+  # can only say that the module is missing.
+  if [[ "$name" == */opencl-* && ! -e "$(dirname "$FACETOOL")/facetool_backend_opencl.so" ]]; then
+    [[ "$name" =~ $GROUP ]] && skip_case "$name" "this build has no opencl module"
+    continue
+  fi
   run_table_case "$name" "$needle" "$line"
 done < <(option_cases)
 while IFS='|' read -r kind path; do
