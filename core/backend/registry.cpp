@@ -1,9 +1,6 @@
 // Backend registry: the built-in cpu backend plus modules loaded at run time (opencl).
 #include "core/backend/registry.h"
 
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>

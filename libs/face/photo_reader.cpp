@@ -1,7 +1,6 @@
 // Photo reading with EXIF orientation.
 #include "libs/face/photo_reader.h"
 
-#include "core/util/error.h"
 #include "core/util/stage_timer.h"
 
 namespace facetool {

@@ -2,9 +2,8 @@
 #include "libs/io/image_file.h"
 
 #include <cstring>
-#include <string>
-#include <filesystem>
 #include <fstream>
+#include <string>
 #include <mutex>
 
 #include "core/util/error.h"

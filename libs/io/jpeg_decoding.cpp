@@ -37,17 +37,15 @@ class JpegReader final : public ImageFileReader {
   JpegReader(const std::string& path, const std::string& kind) : path_(path), kind_(kind) {}
   // Separate from the constructor, so that the destructor releases what a failure leaves open.
   void open() {
-    const std::string& path = path_;
-    const std::string& kind = kind_;
-    file_ = std::fopen(path.c_str(), "rb");
+    file_ = std::fopen(path_.c_str(), "rb");
     if (file_ == nullptr)
-      fail("cannot read ", kind, " '", path, "': ", std::strerror(errno), " (check that the file exists and is readable)");
+      fail("cannot read ", kind_, " '", path_, "': ", std::strerror(errno), " (check that the file exists and is readable)");
     info_.err = jpeg_std_error(&errors_.manager);
     errors_.manager.error_exit = on_error;
     errors_.manager.output_message = on_message;
     errors_.message[0] = '\0';
     if (!read_header())
-      fail("cannot read ", kind, " '", path, "': not a readable JPEG (", errors_.message,
+      fail("cannot read ", kind_, " '", path_, "': not a readable JPEG (", errors_.message,
            "); check that the file is a complete image");
   }
   ~JpegReader() override {

@@ -34,16 +34,14 @@ class PngReader final : public ImageFileReader {
   PngReader(const std::string& path, const std::string& kind) : path_(path), kind_(kind) {}
   // Separate from the constructor, so that the destructor releases what a failure leaves open.
   void open() {
-    const std::string& path = path_;
-    const std::string& kind = kind_;
-    file_ = std::fopen(path.c_str(), "rb");
+    file_ = std::fopen(path_.c_str(), "rb");
     if (file_ == nullptr)
-      fail("cannot read ", kind, " '", path, "': ", std::strerror(errno), " (check that the file exists and is readable)");
+      fail("cannot read ", kind_, " '", path_, "': ", std::strerror(errno), " (check that the file exists and is readable)");
     png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &errors_, on_error, on_warning);
     if (png_ != nullptr) info_ = png_create_info_struct(png_);
-    check(png_ != nullptr && info_ != nullptr, "cannot read image '", path, "': libpng could not start");
+    check(png_ != nullptr && info_ != nullptr, "cannot read ", kind_, " '", path_, "': libpng could not start");
     if (!read_header())
-      fail("cannot read ", kind, " '", path, "': not a readable PNG (", errors_.message,
+      fail("cannot read ", kind_, " '", path_, "': not a readable PNG (", errors_.message,
            "); check that the file is a complete image");
   }
   ~PngReader() override {
