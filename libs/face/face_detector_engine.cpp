@@ -364,14 +364,18 @@ struct MirroredPair {
   double disagreement = 0;
 };
 
-MirroredPair fit_mirrored_pair(const dlib::shape_predictor& predictor, const Chip& chip) {
-  const Landmarks68 a = fit_on_chip(predictor, chip, false), b = fit_on_chip(predictor, chip, true);
+// `a` fitted on a chip, `b` on its mirror image (unmirrored layout), as a pair.
+MirroredPair mirrored_pair(const Landmarks68& a, const Landmarks68& b) {
   const Point2 left_eye = {(a[36].x + a[39].x) / 2, (a[36].y + a[39].y) / 2};
   const Point2 right_eye = {(a[42].x + a[45].x) / 2, (a[42].y + a[45].y) / 2};
   const double iod = std::max(std::hypot(left_eye.x - right_eye.x, left_eye.y - right_eye.y), 1e-9);
   double sum = 0;
   for (int i = 17; i < kLandmarkCount; ++i) sum += std::hypot(a[i].x - b[i].x, a[i].y - b[i].y);
   return {mean_of(a, b), sum / (kLandmarkCount - 17) / iod};
+}
+
+MirroredPair fit_mirrored_pair(const dlib::shape_predictor& predictor, const Chip& chip) {
+  return mirrored_pair(fit_on_chip(predictor, chip, false), fit_on_chip(predictor, chip, true));
 }
 
 // Boxes tried when the mirrored pair disagrees (DetectionOptions::landmark_retry_disagreement):
@@ -406,7 +410,8 @@ Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::ar
   if (std::abs(roll) < kRefitRollDeg * kPi / 180) roll = 0;
   if (!options.mirror_landmarks)
     return roll == 0 ? first : fit_on_chip(predictor, make_chip(grey, whole, roll, scale), false);
-  MirroredPair best = roll == 0 ? fit_mirrored_pair(predictor, upright_chip)
+  // Upright, the first fit is the pair's unmirrored half: only its mirror is fitted.
+  MirroredPair best = roll == 0 ? mirrored_pair(first, fit_on_chip(predictor, upright_chip, true))
                                 : fit_mirrored_pair(predictor, make_chip(grey, whole, roll, scale));
   face.landmark_disagreement = best.disagreement;
   if (options.landmark_retry_disagreement < 0 || best.disagreement <= options.landmark_retry_disagreement)

@@ -40,47 +40,31 @@ uint8_t linear_to_srgb8_directly(float linear) {
   return static_cast<uint8_t>(std::lround((v == v ? v : 0.0f) * 255.0f));
 }
 
-// The steps of linear_to_srgb8: thresholds[k] is the smallest float in [0, 1] whose byte is
-// k + 1 or more (found by bisection over the ordered bit patterns of floats; the byte never
-// decreases as the value grows), thresholds[255] a sentinel above 1; first[i] the byte at the
-// value i / kBins. No bin [i / kBins, (i + 1) / kBins) holds more than one step (the narrowest
-// step, on sRGB's linear segment, is 1 / (255 x 12.92) = 3.0e-4 wide, a bin 2.4e-4; checked
-// here at start), so a value's byte is its bin's first byte or the next.
-struct Srgb8Steps {
-  static constexpr int kBins = 4096;
-  std::array<float, 256> thresholds{};
-  std::array<uint8_t, kBins> first{};
-
-  Srgb8Steps() {
-    const uint32_t one = 0x3f800000u;  // the bits of 1.0f
-    for (int k = 1; k <= 255; ++k) {
-      uint32_t low = 0, high = one;  // byte(low) < k <= byte(high)
-      while (high - low > 1) {
-        const uint32_t middle = low + (high - low) / 2;
-        (linear_to_srgb8_directly(float_from_bits(middle)) >= k ? high : low) = middle;
-      }
-      thresholds[k - 1] = float_from_bits(high);
-    }
-    thresholds[255] = 2.0f;
-    for (int i = 0; i < kBins; ++i) first[i] = linear_to_srgb8_directly(static_cast<float>(i) / kBins);
-    bool one_step_per_bin = 255 - first[kBins - 1] <= 1;
-    for (int i = 0; i + 1 < kBins; ++i) one_step_per_bin = one_step_per_bin && first[i + 1] - first[i] <= 1;
-    if (!one_step_per_bin) {  // a programming error in linear_to_srgb: no byte could be trusted
-      std::fputs("facetool: internal error: linear_to_srgb8's table has two steps in one bin\n", stderr);
-      std::abort();
-    }
-  }
-};
-const Srgb8Steps g_srgb8_steps;
 }  // namespace
 
-uint8_t linear_to_srgb8(float linear) {
-  if (!(linear > 0.0f)) return 0;  // NaN, zero and below
-  if (linear >= 1.0f) return 255;
-  // linear * kBins is exact (a power of two), so the bin's lower edge is at or below `linear`.
-  const int byte = g_srgb8_steps.first[static_cast<int>(linear * Srgb8Steps::kBins)];
-  return static_cast<uint8_t>(byte + (linear >= g_srgb8_steps.thresholds[byte]));  // no branch
+// Found by bisection over the ordered bit patterns of floats (the byte never decreases as the
+// value grows). A bin is 2.4e-4 wide and the narrowest step, on sRGB's linear segment,
+// 1 / (255 x 12.92) = 3.0e-4, so no bin holds two steps: checked here at start.
+Srgb8Steps::Srgb8Steps() {
+  const uint32_t one = 0x3f800000u;  // the bits of 1.0f
+  for (int k = 1; k <= 255; ++k) {
+    uint32_t low = 0, high = one;  // byte(low) < k <= byte(high)
+    while (high - low > 1) {
+      const uint32_t middle = low + (high - low) / 2;
+      (linear_to_srgb8_directly(float_from_bits(middle)) >= k ? high : low) = middle;
+    }
+    thresholds[k - 1] = float_from_bits(high);
+  }
+  thresholds[255] = 2.0f;
+  for (int i = 0; i < kBins; ++i) first[i] = linear_to_srgb8_directly(static_cast<float>(i) / kBins);
+  bool one_step_per_bin = 255 - first[kBins - 1] <= 1;
+  for (int i = 0; i + 1 < kBins; ++i) one_step_per_bin = one_step_per_bin && first[i + 1] - first[i] <= 1;
+  if (!one_step_per_bin) {  // a programming error in linear_to_srgb: no byte could be trusted
+    std::fputs("facetool: internal error: linear_to_srgb8's table has two steps in one bin\n", stderr);
+    std::abort();
+  }
 }
+const Srgb8Steps g_srgb8_steps;
 
 float srgb_to_linear(float encoded) {
   const float x = std::clamp(encoded, 0.0f, 1.0f);

@@ -52,10 +52,30 @@ inline float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f
 // sRGB transfer functions on linear values in [0, 1] (inputs are clamped).
 float linear_to_srgb(float linear);
 float srgb_to_linear(float encoded);
+// The steps of linear_to_srgb8, computed once from linear_to_srgb (image_io.cpp):
+// thresholds[k] is the smallest float in [0, 1] whose byte is k + 1 or more, thresholds[255] a
+// sentinel above 1; first[i] the byte at the value i / kBins. No bin holds more than one step.
+struct Srgb8Steps {
+  static constexpr int kBins = 4096;
+  float thresholds[256];
+  uint8_t first[kBins];
+  Srgb8Steps();
+};
+extern const Srgb8Steps g_srgb8_steps;
+
 // lround(255 * linear_to_srgb(linear)), 0 for NaN: the same byte as computing it, read from a
 // table of 4,096 bins over [0, 1] and the 255 linear values where the byte steps (computed once
-// from linear_to_srgb itself), several times faster than the power function per pixel.
-uint8_t linear_to_srgb8(float linear);
+// from linear_to_srgb itself), several times faster than the power function per pixel. Always
+// inlined (it runs per value in the writers' loops), so no copy of it is compiled for AVX2 in
+// the detector's engine and shared with the portable program.
+[[gnu::always_inline]] inline uint8_t linear_to_srgb8(float linear) {
+  if (!(linear > 0.0f)) return 0;  // NaN, zero and below
+  if (linear >= 1.0f) return 255;
+  // linear * kBins is exact (a power of two), so the bin's lower edge is at or below `linear`;
+  // the value's byte is its bin's first byte or the next.
+  const int byte = g_srgb8_steps.first[static_cast<int>(linear * Srgb8Steps::kBins)];
+  return static_cast<uint8_t>(byte + (linear >= g_srgb8_steps.thresholds[byte]));  // no branch
+}
 // lround(255 * v) of v clamped to [0, 1], 0 for NaN: a value written as a byte as it is (data
 // pictures such as normals as (n + 1) / 2, alpha). The same byte, with the rounding done by a
 // truncation and an exact comparison of the remainder instead of a call to lround.

@@ -74,8 +74,8 @@ std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage la
         bytes[i] = input_srgb8[i];
       else if (encode_srgb)
         bytes[i] = linear_to_srgb8(v + (1 - a) * x);
-      else
-        bytes[i] = unit_to_byte(v + (1 - a) * linear_to_srgb(x));
+      else  // where the layer covers the photo (a = 1) its sRGB value is multiplied by 0: not computed
+        bytes[i] = unit_to_byte(a == 1 ? v : v + (1 - a) * linear_to_srgb(x));
     }
   }
   return encode_png8(path, layer.width, layer.height, 3, bytes.data());
