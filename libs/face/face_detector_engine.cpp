@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -39,6 +40,7 @@
 #include <dlib/serialize.h>
 
 #include "libs/face/landmark_model_dlib.h"
+#include "libs/face/landmark_trees.h"
 
 namespace facetool {
 namespace FACETOOL_DETECTOR_CODE {
@@ -123,7 +125,7 @@ class DlibEngine final : public FaceDetectorEngine {
   std::vector<DetectedFace> detect_pass(const RgbImage& photo, const DetectionOptions& options, bool brighten,
                                         bool near_minimum = false);
   HogDetectors hog_;
-  dlib::shape_predictor predictor_;
+  LandmarkTrees predictor_;
   std::string cnn_model_;
   std::unique_ptr<CnnFaceDetector> cnn_;  // read on first use
 };
@@ -136,10 +138,13 @@ DlibEngine::DlibEngine(const std::string& landmark_model, const std::string& cnn
   check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
   StageTimer timer("load models");
   try {
-    if (const std::optional<LandmarkModelCopy> copy = read_landmark_model_copy(landmark_model_copy_path(), landmark_model))
-      predictor_ = shape_predictor_from_copy(*copy);  // the same model, read faster
-    else
-      dlib::deserialize(landmark_model) >> predictor_;
+    std::optional<LandmarkModelCopy> copy = read_landmark_model_copy(landmark_model_copy_path(), landmark_model);
+    if (!copy) {  // dlib's file itself (the same model, read in four times the time)
+      std::ifstream in(landmark_model, std::ios::binary);
+      check(static_cast<bool>(in), "cannot open it");
+      copy = landmark_model_copy_of(in);
+    }
+    predictor_ = LandmarkTrees(std::move(*copy));
   } catch (const std::exception& e) {
     fail("cannot read landmark model '", landmark_model, "': ", e.what(),
          " (expected dlib's shape_predictor_68_face_landmarks.dat)");
@@ -182,7 +187,7 @@ double eye_line_roll(const Landmarks68& landmarks) {
   return std::atan2(right.y - left.y, right.x - left.x);
 }
 
-void refit_upright(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
+void refit_upright(const LandmarkTrees& predictor, const dlib::array2d<unsigned char>& grey,
                    const dlib::drectangle& box, Landmarks68& landmarks) {
   const double roll = eye_line_roll(landmarks);
   if (std::abs(roll) < kRefitRollDeg * kPi / 180) return;
@@ -246,7 +251,7 @@ Chip make_chip(const dlib::array2d<unsigned char>& grey, const dlib::rectangle& 
 
 // One fit of the predictor on `chip`, mirrored left to right if asked; the points come back in
 // photo pixels, in the unmirrored layout.
-Landmarks68 fit_on_chip(const dlib::shape_predictor& predictor, const Chip& chip, bool mirror) {
+Landmarks68 fit_on_chip(const LandmarkTrees& predictor, const Chip& chip, bool mirror) {
   const long width = chip.image.nc();
   const double cx = mirror ? width - 1 - chip.centre_x : chip.centre_x;
   const dlib::rectangle box(std::lround(cx - chip.half_width), std::lround(chip.centre_y - chip.half_height),
@@ -374,7 +379,7 @@ MirroredPair mirrored_pair(const Landmarks68& a, const Landmarks68& b) {
   return {mean_of(a, b), sum / (kLandmarkCount - 17) / iod};
 }
 
-MirroredPair fit_mirrored_pair(const dlib::shape_predictor& predictor, const Chip& chip) {
+MirroredPair fit_mirrored_pair(const LandmarkTrees& predictor, const Chip& chip) {
   return mirrored_pair(fit_on_chip(predictor, chip, false), fit_on_chip(predictor, chip, true));
 }
 
@@ -390,7 +395,7 @@ constexpr BoxMapping kRetryBoxes[] = {{0, 0, 0.9}, {0, 0, 1.1},  {-0.06, 0, 1},
 // kRefitRollDeg is fitted on a chip turned upright. When the fit and the mirrored fit disagree,
 // the pair is fitted again in the boxes of kRetryBoxes and the most self-consistent pair kept.
 // `face` gets the kept pair's disagreement and whether it was retried.
-Landmarks68 fit_landmarks(const dlib::shape_predictor& predictor, const dlib::array2d<unsigned char>& grey,
+Landmarks68 fit_landmarks(const LandmarkTrees& predictor, const dlib::array2d<unsigned char>& grey,
                           const dlib::drectangle& box, const DetectionOptions& options, DetectedFace& face) {
   const dlib::rectangle whole(std::lround(box.left()), std::lround(box.top()), std::lround(box.right()) - 1,
                               std::lround(box.bottom()) - 1);
