@@ -138,13 +138,13 @@ DlibEngine::DlibEngine(const std::string& landmark_model, const std::string& cnn
   check_regular_input_file(landmark_model, kMaxWeightsFileBytes, "landmark model");  // no pipes
   StageTimer timer("load models");
   try {
-    std::optional<LandmarkModelCopy> copy = read_landmark_model_copy(landmark_model_copy_path(), landmark_model);
-    if (!copy) {  // dlib's file itself (the same model, read in four times the time)
+    if (std::optional<MappedLandmarkModel> mapped = map_landmark_model_copy(landmark_model_copy_path(), landmark_model)) {
+      predictor_ = LandmarkTrees(std::move(*mapped));
+    } else {  // dlib's file itself (the same model, parsed in 0.65 s)
       std::ifstream in(landmark_model, std::ios::binary);
       check(static_cast<bool>(in), "cannot open it");
-      copy = landmark_model_copy_of(in);
+      predictor_ = LandmarkTrees(landmark_model_copy_of(in));
     }
-    predictor_ = LandmarkTrees(std::move(*copy));
   } catch (const std::exception& e) {
     fail("cannot read landmark model '", landmark_model, "': ", e.what(),
          " (expected dlib's shape_predictor_68_face_landmarks.dat)");

@@ -1,16 +1,19 @@
-// facetool's file of dlib's 68-point shape predictor: layout, checksum, reading and writing.
+// facetool's file of dlib's 68-point shape predictor: layout, checksum, mapping, reading, writing.
 //
 // Layout (host byte order; the magic's last byte says the format version):
-//   "FTLMCPY1"  u32 parts, cascades, trees, splits, pixels, source path length
-//   u64 source size  i64 source modification time (ns)  source path bytes
+//   "FTLMCPY2"  u32 parts, cascades, trees, splits, pixels, source path length
+//   u64 source size  i64 source modification time (ns)  source path bytes  0-3 zero bytes (the
+//   arrays start at a multiple of 4, so that a mapped file's floats are aligned)
 //   f32 initial_shape  f32 pixel_coordinates  u32 split_pixels  f32 split_thresholds  f32 leaf_values
 //   u64 checksum of every section above
 #include "libs/face/landmark_model_copy.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstring>
-#include <fstream>
 
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
@@ -19,7 +22,7 @@
 namespace facetool {
 namespace {
 
-constexpr char kMagic[8] = {'F', 'T', 'L', 'M', 'C', 'P', 'Y', '1'};
+constexpr char kMagic[8] = {'F', 'T', 'L', 'M', 'C', 'P', 'Y', '2'};
 constexpr uint32_t kMaxParts = 1000, kMaxCascades = 100, kMaxTrees = 10000, kMaxSplits = 1023,
                    kMaxPixels = 100000, kMaxPathBytes = 4096;
 constexpr uint64_t kMaxValues = uint64_t{1} << 28;  // 1 GiB of floats in any one array
@@ -81,18 +84,58 @@ bool header_sane(const Header& h) {
   return true;
 }
 
+// Split pixels in range and leaves a power of two (dlib's requirement), the header sane.
+bool arrays_consistent(const LandmarkModelArrays& a) {
+  const Header h{a.parts, a.cascades, a.trees, a.splits, a.pixels, 0, 0, 0};
+  const uint32_t leaves = a.splits + 1;
+  if (!header_sane(h) || (leaves & (leaves - 1)) != 0) return false;
+  for (uint64_t i = 0; i < count(h, 2); ++i)
+    if (a.split_pixels[i] >= a.pixels) return false;
+  return true;
+}
+
+// The zero bytes after the source path that put the arrays at a multiple of 4 bytes.
+uint32_t padding_after_path(uint32_t path_bytes) {
+  return (4 - (sizeof kMagic + sizeof(Header) + path_bytes) % 4) % 4;
+}
+
 }  // namespace
+
+LandmarkModelArrays arrays_of(const LandmarkModelCopy& copy) {
+  return {copy.parts, copy.cascades, copy.trees, copy.splits, copy.pixels,
+          copy.initial_shape.data(), copy.pixel_coordinates.data(), copy.split_pixels.data(),
+          copy.split_thresholds.data(), copy.leaf_values.data()};
+}
 
 bool LandmarkModelCopy::consistent() const {
   const Header h{parts, cascades, trees, splits, pixels, 0, 0, 0};
-  if (!header_sane(h) || (leaves() & (leaves() - 1)) != 0) return false;
-  if (initial_shape.size() != count(h, 0) || pixel_coordinates.size() != count(h, 1) ||
+  if (!header_sane(h) || initial_shape.size() != count(h, 0) || pixel_coordinates.size() != count(h, 1) ||
       split_pixels.size() != count(h, 2) || split_thresholds.size() != count(h, 3) ||
       leaf_values.size() != count(h, 4))
     return false;
-  for (uint32_t index : split_pixels)
-    if (index >= pixels) return false;
-  return true;
+  return arrays_consistent(arrays_of(*this));
+}
+
+MappedLandmarkModel::MappedLandmarkModel(MappedLandmarkModel&& other) noexcept
+    : base_(other.base_), bytes_(other.bytes_), arrays_(other.arrays_) {
+  other.base_ = nullptr;
+  other.bytes_ = 0;
+}
+
+MappedLandmarkModel& MappedLandmarkModel::operator=(MappedLandmarkModel&& other) noexcept {
+  if (this != &other) {
+    if (base_) ::munmap(base_, bytes_);
+    base_ = other.base_;
+    bytes_ = other.bytes_;
+    arrays_ = other.arrays_;
+    other.base_ = nullptr;
+    other.bytes_ = 0;
+  }
+  return *this;
+}
+
+MappedLandmarkModel::~MappedLandmarkModel() {
+  if (base_) ::munmap(base_, bytes_);
 }
 
 std::optional<LandmarkModelSource> landmark_model_source(const std::string& path) {
@@ -121,6 +164,8 @@ void write_landmark_model_copy(const std::string& path, const LandmarkModelCopy&
   append(kMagic, sizeof kMagic);
   append(&h, sizeof h);
   append(source.path.data(), source.path.size());
+  const unsigned char zeros[4] = {0, 0, 0, 0};
+  append(zeros, padding_after_path(h.path_bytes));
   append(copy.initial_shape.data(), copy.initial_shape.size() * sizeof(float));
   append(copy.pixel_coordinates.data(), copy.pixel_coordinates.size() * sizeof(float));
   append(copy.split_pixels.data(), copy.split_pixels.size() * sizeof(uint32_t));
@@ -132,54 +177,81 @@ void write_landmark_model_copy(const std::string& path, const LandmarkModelCopy&
   write_file_atomically(path, bytes.data(), bytes.size());
 }
 
-std::optional<LandmarkModelCopy> read_landmark_model_copy(const std::string& path, const std::string& source_path) {
+std::optional<MappedLandmarkModel> map_landmark_model_copy(const std::string& path, const std::string& source_path) {
   if (path.empty()) return std::nullopt;
   const std::optional<LandmarkModelSource> self = landmark_model_source(path);
-  if (!self) return std::nullopt;
-  std::ifstream in(path, std::ios::binary);
+  if (!self || self->size < sizeof kMagic + sizeof(Header) + sizeof(uint64_t)) return std::nullopt;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  // MAP_POPULATE: the page cache's pages are mapped in one go (the checksum reads them all).
+  void* base = ::mmap(nullptr, self->size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  ::close(fd);
+  if (base == MAP_FAILED) return std::nullopt;
+  MappedLandmarkModel mapped;  // unmapped on every return below but the last
+  mapped.base_ = base;
+  mapped.bytes_ = self->size;
+  const unsigned char* bytes = static_cast<const unsigned char*>(base);
+  size_t at = 0;
   Checksum checksum;
-  auto read = [&](void* data, size_t n) {
-    if (!in.read(static_cast<char*>(data), static_cast<std::streamsize>(n))) return false;
-    checksum.add(data, n);
-    return true;
+  auto take = [&](uint64_t n) -> const unsigned char* {  // the next n bytes, or nullptr past the end
+    if (n > self->size - at) return nullptr;
+    const unsigned char* section = bytes + at;
+    checksum.add(section, n);
+    at += n;
+    return section;
   };
-  char magic[sizeof kMagic];
   Header h;
-  if (!read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0 || !read(&h, sizeof h) ||
-      !header_sane(h))
-    return std::nullopt;
+  const unsigned char* magic = take(sizeof kMagic);
+  const unsigned char* header = take(sizeof h);
+  if (!magic || std::memcmp(magic, kMagic, sizeof kMagic) != 0 || !header) return std::nullopt;
+  std::memcpy(&h, header, sizeof h);
+  if (!header_sane(h)) return std::nullopt;
+  uint64_t expected_bytes = sizeof kMagic + sizeof h + h.path_bytes + padding_after_path(h.path_bytes) + sizeof(uint64_t);
+  for (int a = 0; a < 5; ++a) expected_bytes += count(h, a) * 4;
+  if (self->size != expected_bytes) return std::nullopt;
+  const unsigned char* path_bytes = take(h.path_bytes);
   LandmarkModelSource made_from;
-  made_from.path.resize(h.path_bytes);
+  made_from.path.assign(reinterpret_cast<const char*>(path_bytes), h.path_bytes);
   made_from.size = h.source_size;
   made_from.modified_ns = h.source_modified_ns;
-  if (!read(made_from.path.data(), h.path_bytes)) return std::nullopt;
   // Only a copy of this very file as it is now: otherwise dlib's file is the truth.
   if (!(landmark_model_source(made_from.path) == made_from) || !same_existing_file(made_from.path, source_path))
     return std::nullopt;
-  uint64_t expected_bytes = sizeof kMagic + sizeof h + h.path_bytes + sizeof(uint64_t);
-  for (int a = 0; a < 5; ++a) expected_bytes += count(h, a) * 4;
-  if (self->size != expected_bytes) return std::nullopt;
-  LandmarkModelCopy copy;
-  copy.parts = h.parts;
-  copy.cascades = h.cascades;
-  copy.trees = h.trees;
-  copy.splits = h.splits;
-  copy.pixels = h.pixels;
-  copy.initial_shape.resize(count(h, 0));
-  copy.pixel_coordinates.resize(count(h, 1));
-  copy.split_pixels.resize(count(h, 2));
-  copy.split_thresholds.resize(count(h, 3));
-  copy.leaf_values.resize(count(h, 4));
-  if (!read(copy.initial_shape.data(), copy.initial_shape.size() * 4) ||
-      !read(copy.pixel_coordinates.data(), copy.pixel_coordinates.size() * 4) ||
-      !read(copy.split_pixels.data(), copy.split_pixels.size() * 4) ||
-      !read(copy.split_thresholds.data(), copy.split_thresholds.size() * 4) ||
-      !read(copy.leaf_values.data(), copy.leaf_values.size() * 4))
-    return std::nullopt;
-  const uint64_t computed = checksum.value();
+  take(padding_after_path(h.path_bytes));
+  LandmarkModelArrays& a = mapped.arrays_;
+  a.parts = h.parts;
+  a.cascades = h.cascades;
+  a.trees = h.trees;
+  a.splits = h.splits;
+  a.pixels = h.pixels;
+  // Every section starts at a multiple of 4 bytes of a page-aligned mapping: aligned values.
+  a.initial_shape = reinterpret_cast<const float*>(take(count(h, 0) * 4));
+  a.pixel_coordinates = reinterpret_cast<const float*>(take(count(h, 1) * 4));
+  a.split_pixels = reinterpret_cast<const uint32_t*>(take(count(h, 2) * 4));
+  a.split_thresholds = reinterpret_cast<const float*>(take(count(h, 3) * 4));
+  a.leaf_values = reinterpret_cast<const float*>(take(count(h, 4) * 4));
   uint64_t stored = 0;
-  if (!in.read(reinterpret_cast<char*>(&stored), sizeof stored) || stored != computed || !copy.consistent())
-    return std::nullopt;
+  std::memcpy(&stored, bytes + at, sizeof stored);  // the size check left exactly these 8 bytes
+  if (stored != checksum.value() || !arrays_consistent(a)) return std::nullopt;
+  return mapped;
+}
+
+std::optional<LandmarkModelCopy> read_landmark_model_copy(const std::string& path, const std::string& source_path) {
+  const std::optional<MappedLandmarkModel> mapped = map_landmark_model_copy(path, source_path);
+  if (!mapped) return std::nullopt;
+  const LandmarkModelArrays& a = mapped->arrays();
+  const Header h{a.parts, a.cascades, a.trees, a.splits, a.pixels, 0, 0, 0};
+  LandmarkModelCopy copy;
+  copy.parts = a.parts;
+  copy.cascades = a.cascades;
+  copy.trees = a.trees;
+  copy.splits = a.splits;
+  copy.pixels = a.pixels;
+  copy.initial_shape.assign(a.initial_shape, a.initial_shape + count(h, 0));
+  copy.pixel_coordinates.assign(a.pixel_coordinates, a.pixel_coordinates + count(h, 1));
+  copy.split_pixels.assign(a.split_pixels, a.split_pixels + count(h, 2));
+  copy.split_thresholds.assign(a.split_thresholds, a.split_thresholds + count(h, 3));
+  copy.leaf_values.assign(a.leaf_values, a.leaf_values + count(h, 4));
   return copy;
 }
 

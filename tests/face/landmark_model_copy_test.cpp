@@ -1,5 +1,5 @@
 // The build's copy of dlib's landmark model rebuilds, through dlib, the very bytes of dlib's file;
-// copies round-trip; a damaged, stale or foreign copy is never used.
+// copies round-trip and map with aligned arrays; a damaged, stale or foreign copy is never used.
 #include <gtest/gtest.h>
 
 #include <dlib/image_processing.h>
@@ -94,6 +94,25 @@ TEST_F(LandmarkModelCopyFile, RoundTrips) {
   EXPECT_EQ(read->leaf_values, model_.leaf_values);
   // Another spelling of the same source file is the same file.
   EXPECT_TRUE(read_landmark_model_copy(copy_path_, (dir_ / "." / "model.dat").string()).has_value());
+}
+
+TEST_F(LandmarkModelCopyFile, MapsAlignedArraysWhateverThePathLength) {
+  for (int extra = 0; extra < 4; ++extra) {  // source paths of four lengths: every padding
+    const std::string source = (dir_ / ("model" + std::string(extra, 'x') + ".dat")).string();
+    write_bytes(source, "stands for dlib's file");
+    write_landmark_model_copy(copy_path_, model_, *landmark_model_source(source));
+    const std::optional<MappedLandmarkModel> mapped = map_landmark_model_copy(copy_path_, source);
+    ASSERT_TRUE(mapped.has_value()) << "path of " << source.size() << " bytes";
+    const LandmarkModelArrays& a = mapped->arrays();
+    for (const void* p : {static_cast<const void*>(a.initial_shape), static_cast<const void*>(a.pixel_coordinates),
+                          static_cast<const void*>(a.split_pixels), static_cast<const void*>(a.split_thresholds),
+                          static_cast<const void*>(a.leaf_values)})
+      EXPECT_EQ(reinterpret_cast<uintptr_t>(p) % alignof(float), 0u) << "path of " << source.size() << " bytes";
+    EXPECT_EQ(a.parts, model_.parts);
+    EXPECT_EQ(std::vector<float>(a.leaf_values, a.leaf_values + model_.leaf_values.size()), model_.leaf_values);
+    EXPECT_EQ(std::vector<uint32_t>(a.split_pixels, a.split_pixels + model_.split_pixels.size()), model_.split_pixels);
+    EXPECT_EQ(std::vector<float>(a.initial_shape, a.initial_shape + model_.initial_shape.size()), model_.initial_shape);
+  }
 }
 
 TEST_F(LandmarkModelCopyFile, ThroughDlibAndBackIsTheSameModel) {

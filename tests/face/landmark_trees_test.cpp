@@ -1,5 +1,6 @@
-// LandmarkTrees (the landmark model run from the copy's arrays) against dlib::shape_predictor
-// itself: the same 68 points, bit for bit, on real photos in many boxes and on random models.
+// LandmarkTrees (the landmark model run from its arrays: dlib's file parsed, or the build's copy
+// mapped) against dlib::shape_predictor itself: the same 68 points, bit for bit, on real photos
+// in many boxes and on random models.
 #include <gtest/gtest.h>
 
 #include <dlib/image_processing.h>
@@ -10,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -71,8 +73,12 @@ TEST(LandmarkTrees, TheStockModelGivesDlibsPointsOnRealPhotos) {
   dlib::shape_predictor dlibs;
   dlib::deserialize(kDefaultLandmarkModel) >> dlibs;
   std::ifstream in(kDefaultLandmarkModel, std::ios::binary);
-  const LandmarkTrees trees(portable::landmark_model_copy_of(in));
+  const LandmarkTrees trees(portable::landmark_model_copy_of(in));  // dlib's file parsed
   ASSERT_EQ(trees.num_parts(), 68u);
+  // And the build's copy of it, mapped, as the detector uses it.
+  std::optional<MappedLandmarkModel> mapped = map_landmark_model_copy(landmark_model_copy_path(), kDefaultLandmarkModel);
+  ASSERT_TRUE(mapped.has_value()) << "no usable share/facetool/dlib/shape_predictor_68_face_landmarks.copy (rebuild)";
+  const LandmarkTrees mapped_trees(std::move(*mapped));
 
   std::vector<std::string> photos = {std::string(FACETOOL_EXAMPLES_DIR) + "/photos/grace_hopper_512x512.jpg",
                                      std::string(FACETOOL_EXAMPLES_DIR) + "/photos/astronaut.png"};
@@ -97,7 +103,9 @@ TEST(LandmarkTrees, TheStockModelGivesDlibsPointsOnRealPhotos) {
     const dlib::rectangle mirrored_face(w - 1 - face.right(), face.top(), w - 1 - face.left(), face.bottom());
     auto compare_in = [&](const dlib::array2d<unsigned char>& image, const dlib::rectangle& box_of_face) {
       for (const dlib::rectangle& box : boxes_over(image, box_of_face, rng)) {
-        EXPECT_EQ(differing_parts(trees(image, box), dlibs(image, box)), 0) << path << " box " << box;
+        const dlib::full_object_detection reference = dlibs(image, box);
+        EXPECT_EQ(differing_parts(trees(image, box), reference), 0) << path << " box " << box;
+        EXPECT_EQ(differing_parts(mapped_trees(image, box), reference), 0) << "mapped copy, " << path << " box " << box;
         ++shapes;
       }
     };
