@@ -179,22 +179,29 @@ void write_landmark_model_copy(const std::string& path, const LandmarkModelCopy&
 
 std::optional<MappedLandmarkModel> map_landmark_model_copy(const std::string& path, const std::string& source_path) {
   if (path.empty()) return std::nullopt;
-  const std::optional<LandmarkModelSource> self = landmark_model_source(path);
-  if (!self || self->size < sizeof kMagic + sizeof(Header) + sizeof(uint64_t)) return std::nullopt;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO must not block
   if (fd < 0) return std::nullopt;
+  // The size of the file opened (not of the name looked up before: the build replaces the copy
+  // by a rename, and a mapping longer than its file would fault where the file ends).
+  struct stat st;
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) ||
+      static_cast<uint64_t>(st.st_size) < sizeof kMagic + sizeof(Header) + sizeof(uint64_t)) {
+    ::close(fd);
+    return std::nullopt;
+  }
+  const uint64_t size = static_cast<uint64_t>(st.st_size);
   // MAP_POPULATE: the page cache's pages are mapped in one go (the checksum reads them all).
-  void* base = ::mmap(nullptr, self->size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  void* base = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
   ::close(fd);
   if (base == MAP_FAILED) return std::nullopt;
   MappedLandmarkModel mapped;  // unmapped on every return below but the last
   mapped.base_ = base;
-  mapped.bytes_ = self->size;
+  mapped.bytes_ = size;
   const unsigned char* bytes = static_cast<const unsigned char*>(base);
   size_t at = 0;
   Checksum checksum;
   auto take = [&](uint64_t n) -> const unsigned char* {  // the next n bytes, or nullptr past the end
-    if (n > self->size - at) return nullptr;
+    if (n > size - at) return nullptr;
     const unsigned char* section = bytes + at;
     checksum.add(section, n);
     at += n;
@@ -208,7 +215,7 @@ std::optional<MappedLandmarkModel> map_landmark_model_copy(const std::string& pa
   if (!header_sane(h)) return std::nullopt;
   uint64_t expected_bytes = sizeof kMagic + sizeof h + h.path_bytes + padding_after_path(h.path_bytes) + sizeof(uint64_t);
   for (int a = 0; a < 5; ++a) expected_bytes += count(h, a) * 4;
-  if (self->size != expected_bytes) return std::nullopt;
+  if (size != expected_bytes) return std::nullopt;
   const unsigned char* path_bytes = take(h.path_bytes);
   LandmarkModelSource made_from;
   made_from.path.assign(reinterpret_cast<const char*>(path_bytes), h.path_bytes);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -91,6 +92,22 @@ TEST_F(PhotoCliTest, InferFindsOneFacePerExampleAndReportsThePhotoWithout) {
     double worst = 0;
     for (size_t p = 0; p < exr.plane_size(); ++p) worst = std::max(worst, static_cast<double>(std::abs(exr.plane(0)[p] - photo.pixels[p * 3])));
     EXPECT_LT(worst, 1e-6);
+    // normal.png: the premultiplied (n + 1) / 2 over the photo's sRGB values, a data layer
+    // composited as a * value + (1 - a) * photo at the face's soft edge (the EXR's layer is half
+    // floats: within one level).
+    const RgbImage normal_png = read_rgb_image((folder / "normal.png").string(), false);
+    const float* normal[3] = {exr.plane(exr.require_channel("normal.X", "photo.exr")),
+                              exr.plane(exr.require_channel("normal.Y", "photo.exr")), nz};
+    int edge = 0, off = 0;
+    for (size_t p = 0; p < exr.plane_size(); ++p)
+      for (int c = 0; c < 3; ++c) {
+        const float a = alpha[p], n = normal[c][p];
+        const double expected = 0.5 * (n + a) + (1 - a) * linear_to_srgb(photo.pixels[p * 3 + c]);
+        off += std::abs(normal_png.pixels[p * 3 + c] - std::clamp(expected, 0.0, 1.0)) > 1.01 / 255;
+        edge += c == 0 && a > 0 && a < 1;
+      }
+    EXPECT_EQ(off, 0) << stem;
+    EXPECT_GT(edge, 100) << stem;  // the soft edge is there to test
     // The contact sheet shows the landmarks: red dots (linear 1, 0.05, 0.05).
     const RgbImage sheet = read_rgb_image((folder / "contact_sheet.png").string(), true);
     int red = 0;

@@ -152,6 +152,9 @@ TEST_F(LandmarkModelCopyFile, AStaleOrForeignCopyIsRefused) {
   EXPECT_FALSE(read_landmark_model_copy(copy_path_, other).has_value()) << "a copy of another file";
   EXPECT_FALSE(read_landmark_model_copy(copy_path_, (dir_ / "missing.dat").string()).has_value());
   EXPECT_FALSE(read_landmark_model_copy("", source_).has_value());
+  const std::string fifo = (dir_ / "fifo.copy").string();  // a pipe in the copy's place: refused, not waited on
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_FALSE(map_landmark_model_copy(fifo, source_).has_value());
   // The source changed after the copy was made (same size, newer time).
   struct timeval times[2] = {{1000000000, 0}, {2000000000, 0}};
   ASSERT_EQ(::utimes(source_.c_str(), times), 0);
