@@ -10,6 +10,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_winograd.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
@@ -79,12 +80,13 @@ std::string conv_algorithm_name(ConvAlgorithm algorithm) {
     case ConvAlgorithm::Im2col: return "im2col";
     case ConvAlgorithm::Winograd: return "winograd";
     case ConvAlgorithm::Dnnl: return "dnnl";
+    case ConvAlgorithm::Direct: return "direct";
   }
   return "?";
 }
 
 std::optional<ConvAlgorithm> parse_conv_algorithm(const std::string& name) {
-  for (ConvAlgorithm a : {ConvAlgorithm::Im2col, ConvAlgorithm::Winograd, ConvAlgorithm::Dnnl})
+  for (ConvAlgorithm a : {ConvAlgorithm::Im2col, ConvAlgorithm::Winograd, ConvAlgorithm::Dnnl, ConvAlgorithm::Direct})
     if (conv_algorithm_name(a) == name) return a;
   return std::nullopt;
 }
@@ -105,11 +107,14 @@ std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
       g.out_width == g.width && out_channels >= 1)
     algorithms.push_back(ConvAlgorithm::Winograd);
   algorithms.push_back(ConvAlgorithm::Dnnl);
+  if (direct_conv_applicable(g)) algorithms.push_back(ConvAlgorithm::Direct);
   return algorithms;
 }
 
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels) {
-  return winograd_applicable(g, out_channels) ? ConvAlgorithm::Winograd : ConvAlgorithm::Im2col;
+  if (winograd_applicable(g, out_channels)) return ConvAlgorithm::Winograd;
+  if (out_channels <= kDirectMaxOutChannels && g.kernel > 1 && direct_conv_applicable(g)) return ConvAlgorithm::Direct;
+  return ConvAlgorithm::Im2col;
 }
 
 ConvAlgorithm chosen_conv_algorithm(const ConvGeometry& g, int64_t batch, int64_t out_channels) {
@@ -122,7 +127,7 @@ ConvAlgorithm chosen_conv_algorithm(const ConvGeometry& g, int64_t batch, int64_
     if (!env || !*env) return std::nullopt;
     const auto parsed = parse_conv_algorithm(env);
     check(parsed.has_value(), "FACETOOL_CONV_ALGORITHM='", env,
-          "' is not a convolution algorithm; use im2col, winograd or dnnl (or unset it)");
+          "' is not a convolution algorithm; use im2col, winograd, dnnl or direct (or unset it)");
     return parsed;
   }();
   if (from_env && applies(*from_env, g, out_channels)) return *from_env;

@@ -11,7 +11,7 @@
 
 namespace facetool::cpu {
 
-enum class ConvAlgorithm { Im2col, Winograd, Dnnl };
+enum class ConvAlgorithm { Im2col, Winograd, Dnnl, Direct };
 
 std::string conv_algorithm_name(ConvAlgorithm algorithm);
 std::optional<ConvAlgorithm> parse_conv_algorithm(const std::string& name);
@@ -20,17 +20,21 @@ std::optional<ConvAlgorithm> parse_conv_algorithm(const std::string& name);
 std::string conv_shape_key(const ConvGeometry& g, int64_t batch, int64_t out_channels);
 
 // The algorithms that can run this shape (Winograd: 3x3, stride 1, same size; oneDNN: always
-// offered, it may still decline at run time).
+// offered, it may still decline at run time; direct: stride 1, direct_conv_applicable).
 std::vector<ConvAlgorithm> applicable_conv_algorithms(const ConvGeometry& g,
                                                       int64_t out_channels);
 
 // The rule used when nothing was measured for a shape (from measurements on the machine kind
 // of docs/performance.md): Winograd where winograd_applicable (3x3 same convolutions with >= 16
-// channels on both sides), im2col + SGEMM otherwise; the plain path follows the same rule.
+// channels on both sides); direct for a stride-1 kernel over 1x1 with at most
+// kDirectMaxOutChannels outputs (its im2col matrix would be written to be read once: dlib's face
+// detector's last layer, 45 channels under a 9x9 kernel into 1, 3.8 -> 0.8 ms); im2col + SGEMM
+// otherwise. The plain path (training) follows the same rule without direct.
+constexpr int64_t kDirectMaxOutChannels = 4;
 ConvAlgorithm default_conv_algorithm(const ConvGeometry& g, int64_t out_channels);
 
 // The algorithm for this shape, first of: set_conv_algorithm_override(); the environment's
-// FACETOOL_CONV_ALGORITHM (im2col, winograd, dnnl); this machine's measured choice from the
+// FACETOOL_CONV_ALGORITHM (im2col, winograd, dnnl, direct); this machine's measured choice from the
 // cache file (written by `facetool bench conv --save`); default_conv_algorithm(). An algorithm
 // that does not apply to the shape falls back to the default.
 ConvAlgorithm chosen_conv_algorithm(const ConvGeometry& g, int64_t batch, int64_t out_channels);

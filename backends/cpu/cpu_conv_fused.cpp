@@ -29,6 +29,8 @@ bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, i
     }
     case ConvAlgorithm::Dnnl:
       return dnnl_convolve(g, batch, out_channels, x, w, y, epilogue);
+    case ConvAlgorithm::Direct:
+      return direct_convolve(g, batch, out_channels, x, w, y, epilogue);
   }
   return false;
 }

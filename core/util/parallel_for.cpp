@@ -175,6 +175,10 @@ int parallel_thread_count() { return pool().threads(); }
 
 int parallel_thread_slot() { return tls_slot; }
 
+InlineParallelScope::InlineParallelScope() : was_inline_(tls_inside_parallel) { tls_inside_parallel = true; }
+
+InlineParallelScope::~InlineParallelScope() { tls_inside_parallel = was_inline_; }
+
 void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& fn) {
   if (n <= 0) return;
   grain = std::max<int64_t>(grain, 1);

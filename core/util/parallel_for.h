@@ -20,6 +20,20 @@ int parallel_thread_slot();
 // another parallel_for. The first exception thrown by fn is rethrown here after all chunks end.
 void parallel_for(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& fn);
 
+// While one lives, parallel_for and parallel_for_each_item called on its thread run inline, on
+// that thread alone: for work beside a parallel computation on another thread (infer's writer
+// pasting faces back while the network runs), which then keeps the pool to itself. Scopes nest.
+class InlineParallelScope {
+ public:
+  InlineParallelScope();
+  ~InlineParallelScope();
+  InlineParallelScope(const InlineParallelScope&) = delete;
+  InlineParallelScope& operator=(const InlineParallelScope&) = delete;
+
+ private:
+  bool was_inline_;
+};
+
 // Runs fn(i) for every i in [0, n) on the pool's threads, each thread taking the next item when
 // it is done with one: for long, independent items (files), where parallel_for's fixed chunks
 // would leave a thread idle at the end. After an exception no further item starts; the first

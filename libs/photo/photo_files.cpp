@@ -252,10 +252,10 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
   ProgressBar progress("infer", static_cast<int64_t>(photos.size()), "photos");
   // Photos whose faces are found wait in a group until it holds options.batch faces or
   // kGroupPixels pixels, or the writer is idle; the network then runs on all their faces in one
-  // batch. A photo's files
-  // are encoded and written on the worker while the next photos are decoded, detected and run
-  // through the network; they land together (WriteBatch: one flush per photo, all of them or
-  // none). A failure to write them (a full disk) ends the run at the next photo handed over.
+  // batch. A photo's faces are pasted back and its files encoded and written on the worker while
+  // the next photos are decoded, detected and run through the network; its files land together
+  // (WriteBatch: one flush per photo, all of them or none). A failure to write them (a full disk)
+  // ends the run at the next photo handed over.
   constexpr double kGroupPixels = 2e6;
   // The worker holds up to a group's worth of photos (at least one photo; a photo weighs its
   // pixels, at least kGroupPixels / batch), so that the next group is found while it writes.
@@ -268,10 +268,11 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
     if (group.empty()) return;
     std::vector<std::string> paths, folders_now = std::move(group_folders);
     for (const FoundPhoto& f : group) paths.push_back(f.path);
-    std::vector<DecomposedPhoto> done;
+    std::vector<FoundPhoto> found = std::move(group);
+    std::vector<Decomposition> faces;
     std::string failure;
     try {
-      done = decomposer.decompose_found(std::move(group));
+      faces = decomposer.decompose_faces(found);
     } catch (const std::bad_alloc&) {
       failure = out_of_memory("running the network on the faces of these photos", 0).what();
     } catch (const Error& e) {
@@ -289,16 +290,32 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
       }
       return;
     }
-    for (size_t i = 0; i < done.size(); ++i) {
-      auto photo = std::make_shared<DecomposedPhoto>(std::move(done[i]));
-      const double weight = std::max(static_cast<double>(photo->photo.width) * photo->photo.height,
+    for (size_t i = 0; i < found.size(); ++i) {
+      auto job = std::make_shared<std::pair<FoundPhoto, Decomposition>>(std::move(found[i]), std::move(faces[i]));
+      const double weight = std::max(static_cast<double>(job->first.photo.width) * job->first.photo.height,
                                      kGroupPixels / options.batch);
       const std::string folder = (fs::path(out_dir) / folders_now[i]).string(), path = paths[i];
       writer.submit(
-          [photo, folder, path, &options, &failed] {
+          [job, folder, path, &decomposer, &options, &failed] {
+            DecomposedPhoto photo;
+            try {
+              // The paste-back here, on the writer's thread alone: the network's next batch
+              // keeps both of the pool's threads meanwhile.
+              InlineParallelScope here;
+              photo = decomposer.assemble(std::move(job->first), job->second);
+            } catch (const std::bad_alloc&) {
+              std::cerr << "\nphoto '" << path << "': "
+                        << out_of_memory("pasting the faces back into photo '" + path + "'", 0).what() << "\n";
+              ++failed;
+              return;
+            } catch (const Error& e) {
+              std::cerr << "\nphoto '" << path << "': " << e.what() << "\n";
+              ++failed;
+              return;
+            }
             try {
               WriteBatch batch;
-              write_photo_files(folder, *photo, options);
+              write_photo_files(folder, photo, options);
               batch.commit();
             } catch (const std::bad_alloc&) {
               std::cerr << "\nphoto '" << path << "': "

@@ -115,6 +115,18 @@ FoundPhoto PhotoDecomposer::find(RgbImage photo, const std::string& source) {
 }
 
 std::vector<DecomposedPhoto> PhotoDecomposer::decompose_found(std::vector<FoundPhoto> photos) {
+  const std::vector<Decomposition> faces = decompose_faces(photos);
+  std::vector<DecomposedPhoto> out;
+  for (size_t i = 0; i < photos.size(); ++i) out.push_back(assemble(std::move(photos[i]), faces[i]));
+  return out;
+}
+
+DecomposedPhoto PhotoDecomposer::assemble(FoundPhoto photo, const Decomposition& faces) const {
+  return assemble_decomposed_photo(photo.path, std::move(photo.photo), std::move(photo.crops), faces,
+                                   options_.feather, options_.upsample);
+}
+
+std::vector<Decomposition> PhotoDecomposer::decompose_faces(const std::vector<FoundPhoto>& photos) {
   std::vector<FaceCrop> all;
   for (const FoundPhoto& p : photos) all.insert(all.end(), p.crops.begin(), p.crops.end());
   const std::vector<float> inputs = network_inputs(all, decomposer_.network().config(), options_.prior_basis);
@@ -126,12 +138,11 @@ std::vector<DecomposedPhoto> PhotoDecomposer::decompose_found(std::vector<FoundP
     }
   const Decomposition d = decompose_all(decomposer_, backend_, inputs, static_cast<int>(all.size()),
                                         crop_size_, options_.batch, &landmarks);
-  std::vector<DecomposedPhoto> out;
+  std::vector<Decomposition> out;
   int first = 0;
-  for (FoundPhoto& p : photos) {
+  for (const FoundPhoto& p : photos) {
     const int n = static_cast<int>(p.crops.size());
-    out.push_back(assemble_decomposed_photo(p.path, std::move(p.photo), std::move(p.crops),
-                                            decomposition_images(d, first, n), options_.feather, options_.upsample));
+    out.push_back(decomposition_images(d, first, n));
     first += n;
   }
   return out;

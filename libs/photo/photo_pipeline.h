@@ -139,6 +139,13 @@ class PhotoDecomposer {
   // time, and pastes each photo's back (results in the order given).
   FoundPhoto find(RgbImage photo, const std::string& source = "");
   std::vector<DecomposedPhoto> decompose_found(std::vector<FoundPhoto> photos);
+  // decompose_found() up to the paste-back: each photo's faces from the network (one
+  // Decomposition per photo, in the order given), for assemble() to paste back later, on
+  // another thread (infer's writer).
+  std::vector<Decomposition> decompose_faces(const std::vector<FoundPhoto>& photos);
+  // The paste-back of one photo found by find() with its decompose_faces() result, with this
+  // decomposer's feathering and upsampling (assemble_decomposed_photo).
+  DecomposedPhoto assemble(FoundPhoto photo, const Decomposition& faces) const;
 
   // read_photo(path) (8-bit files decoded from sRGB), then decompose(); throws facetool::Error
   // naming the file when it cannot be read or holds no face.

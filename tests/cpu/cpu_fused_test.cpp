@@ -1,9 +1,10 @@
 // The cpu backend's fused inference ops against the plain reference (ops::conv2d and host loops):
-// every convolution algorithm (im2col, Winograd, oneDNN) with every epilogue on odd shapes.
+// every convolution algorithm (im2col, Winograd, oneDNN, direct) with every epilogue on odd shapes.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_conv_choice.h"
 #include "core/backend/registry.h"
 #include "core/ops/ops.h"
@@ -101,6 +102,59 @@ TEST(CpuFused, ConvolutionWithEveryEpilogueMatchesThePlainReference) {
       }
     }
   }
+}
+
+// The direct algorithm (stride 1, tap by tap from a padded copy) where the square cases above do
+// not reach: non-square images, padding below, at and above "same", dlib's face detector's last
+// layer (45 channels, 9x9, into one), and output channels in whole and partial groups of four.
+TEST(CpuFused, DirectConvolutionOnNonSquareImagesAndAnyPaddingMatchesThePlainReference) {
+  Backend& be = cpu_backend();
+  struct DirectCase {
+    int64_t batch, in, out, height, width, kernel;
+    int pad;
+  };
+  const DirectCase cases[] = {{1, 45, 1, 139, 37, 9, 4}, {2, 3, 2, 13, 40, 5, 2}, {3, 13, 5, 7, 33, 3, 0},
+                              {1, 1, 9, 1, 17, 3, 2},    {2, 31, 4, 20, 3, 5, 4}, {1, 4, 7, 65, 9, 1, 0},
+                              {20, 3, 3, 9, 8, 7, 3}};
+  unsigned seed = 500;
+  for (const DirectCase& c : cases) {
+    const Conv2dParams params{1, c.pad};
+    const Tensor x = random_tensor(be, Shape{c.batch, c.in, c.height, c.width}, ++seed);
+    // Weights in [-0.1, 0.1]: sums of up to 3,645 products stay near 1, where kAtol is strict.
+    const Tensor w = random_tensor(be, Shape{c.out, c.in, c.kernel, c.kernel}, ++seed, -0.1f, 0.1f);
+    const Tensor scale = random_tensor(be, Shape{c.out}, ++seed, 0.5f, 1.5f);
+    const Tensor shift = random_tensor(be, Shape{c.out}, ++seed);
+    ConvEpilogue e;
+    e.scale = &scale;
+    e.shift = &shift;
+    e.activation = ConvEpilogue::Activation::LeakyRelu;
+    e.slope = 0.2f;
+    const std::vector<float> expected = ops::conv2d_fused_reference(x, w, params, e).to_host();
+    const std::string what = std::to_string(c.batch) + "x" + std::to_string(c.in) + "x" + std::to_string(c.height) +
+                             "x" + std::to_string(c.width) + " k" + std::to_string(c.kernel) + " pad " +
+                             std::to_string(c.pad) + " -> " + std::to_string(c.out);
+    const int64_t out_h = c.height + 2 * c.pad - c.kernel + 1, out_w = c.width + 2 * c.pad - c.kernel + 1;
+    ASSERT_TRUE(cpu::direct_conv_applicable(
+        cpu::ConvGeometry{c.in, c.height, c.width, c.kernel, 1, c.pad, out_h, out_w}))
+        << what;  // else the forced algorithm would fall back and this test compare nothing new
+    ForcedAlgorithm forced(ConvAlgorithm::Direct);
+    const Tensor y = ops::conv2d_fused(x, w, params, e);
+    ASSERT_EQ(y.shape(), (Shape{c.batch, c.out, out_h, out_w})) << what;
+    EXPECT_TRUE(all_close(y.to_host(), expected, kAtol, kRtol)) << what;
+  }
+  // Stride 2 and a padding that does not give the output's size are refused.
+  EXPECT_FALSE(cpu::direct_conv_applicable(cpu::ConvGeometry{3, 8, 8, 3, 2, 1, 4, 4}));
+  EXPECT_FALSE(cpu::direct_conv_applicable(cpu::ConvGeometry{3, 8, 8, 3, 1, 1, 7, 8}));
+}
+
+// The rule without measurements: direct for a stride-1 kernel over 1x1 with few outputs.
+TEST(CpuFused, DefaultRuleTakesDirectForFewOutputChannelsOnly) {
+  const cpu::ConvGeometry last{45, 139, 37, 9, 1, 4, 139, 37}, pointwise{16, 96, 96, 1, 1, 0, 96, 96};
+  EXPECT_EQ(cpu::default_conv_algorithm(last, 1), ConvAlgorithm::Direct);
+  EXPECT_EQ(cpu::default_conv_algorithm(last, cpu::kDirectMaxOutChannels), ConvAlgorithm::Direct);
+  EXPECT_EQ(cpu::default_conv_algorithm(last, cpu::kDirectMaxOutChannels + 1), ConvAlgorithm::Im2col);
+  EXPECT_EQ(cpu::default_conv_algorithm(pointwise, 3), ConvAlgorithm::Im2col);
+  EXPECT_EQ(cpu::default_conv_algorithm(cpu::ConvGeometry{32, 48, 48, 3, 1, 1, 48, 48}, 32), ConvAlgorithm::Winograd);
 }
 
 TEST(CpuFused, PlainPathsSwitchIsHonoured) {

@@ -1,6 +1,7 @@
 // The thread pool under parallel_for: every index of every call run exactly once, over many
 // short calls back to back and calls far apart (workers that spin, then sleep, and are woken);
-// the first exception reaches the caller; nested calls run inline; parallel_for_each_item hands
+// the first exception reaches the caller; nested calls and calls in an InlineParallelScope run
+// inline; parallel_for_each_item hands
 // out items one at a time and ends at a failure. CTest runs it again with
 // FACETOOL_SPIN_US=0 (sleep at once) and with a spin longer than any gap.
 #include <gtest/gtest.h>
@@ -138,6 +139,42 @@ TEST(ParallelFor, NestedCallsRunInlineOnTheCallingThread) {
   });
   EXPECT_EQ(mismatched.load(), 0);
   EXPECT_EQ(total.load(), 8 * 16);
+}
+
+// Calls [0, n) in chunks, recording which threads ran them; returns how many chunks there were.
+int chunks_of(int64_t n, std::set<std::thread::id>& threads) {
+  std::mutex mutex;
+  int chunks = 0;
+  parallel_for(n, 1, [&](int64_t, int64_t) {
+    std::lock_guard<std::mutex> lock(mutex);
+    threads.insert(std::this_thread::get_id());
+    ++chunks;
+  });
+  return chunks;
+}
+
+TEST(ParallelFor, AnInlineScopeRunsItsThreadsCallsAloneAndEndsWithIt) {
+  if (parallel_thread_count() < 2) GTEST_SKIP() << "one thread: every call runs inline anyway";
+  std::set<std::thread::id> threads;
+  {
+    InlineParallelScope here;
+    EXPECT_EQ(chunks_of(1000, threads), 1);  // one call of the whole range
+    {
+      InlineParallelScope nested;
+      EXPECT_EQ(chunks_of(1000, threads), 1);
+    }
+    EXPECT_EQ(chunks_of(1000, threads), 1);  // the inner scope's end keeps the outer one's
+  }
+  EXPECT_EQ(threads, std::set<std::thread::id>{std::this_thread::get_id()});
+  // Another thread's calls, meanwhile, still use the pool: a scope is one thread's.
+  std::set<std::thread::id> other;
+  int other_chunks = 0;
+  {
+    InlineParallelScope here;
+    std::thread([&] { other_chunks = chunks_of(1000, other); }).join();
+  }
+  EXPECT_GT(other_chunks, 1);
+  EXPECT_GT(chunks_of(1000, threads), 1);  // after the scope, chunks again
 }
 
 }  // namespace

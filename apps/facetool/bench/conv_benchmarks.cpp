@@ -49,8 +49,8 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       << options.width << ", input " << options.input_size << "x" << options.input_size
       << ", median of " << options.repeats << " (ms per call, GFLOP/s; * = fastest)\n";
   char line[256];
-  std::snprintf(line, sizeof line, "%-26s %5s %-22s %10s %10s %10s  %s\n", "layer", "batch",
-                "shape", "im2col", "winograd", "dnnl",
+  std::snprintf(line, sizeof line, "%-26s %5s %-22s %10s %10s %10s %10s  %s\n", "layer", "batch",
+                "shape", "im2col", "winograd", "dnnl", "direct",
                 "fastest: GFLOP/s, and per core of CPU time");
   out << line;
   std::vector<std::pair<std::string, cpu::ConvAlgorithm>> winners;
@@ -72,7 +72,7 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       for (float& v : x) v = dist(rng);
       for (float& v : w) v = dist(rng);
       const double flops = 2.0 * batch * layer.out * g.pixels() * g.rows();
-      double times[3] = {0, 0, 0}, cpu_times[3] = {0, 0, 0};
+      double times[4] = {0, 0, 0, 0}, cpu_times[4] = {0, 0, 0, 0};  // by ConvAlgorithm
       double best = 1e30;
       cpu::ConvAlgorithm best_algorithm = cpu::ConvAlgorithm::Im2col;
       for (cpu::ConvAlgorithm a : cpu::applicable_conv_algorithms(g, layer.out)) {
@@ -116,9 +116,9 @@ void run_conv_benchmarks(Backend& backend, const ConvBenchOptions& options, std:
       std::snprintf(shape, sizeof shape, "%lldx%lld %lld->%lld", static_cast<long long>(layer.size),
                     static_cast<long long>(layer.size), static_cast<long long>(layer.in),
                     static_cast<long long>(layer.out));
-      std::snprintf(line, sizeof line, "%-26s %5lld %-22s %10s %10s %10s  %.1f, %.1f\n",
+      std::snprintf(line, sizeof line, "%-26s %5lld %-22s %10s %10s %10s %10s  %.1f, %.1f\n",
                     layer.name, static_cast<long long>(batch), shape, cell(0).c_str(),
-                    cell(1).c_str(), cell(2).c_str(), flops / best / 1e9,
+                    cell(1).c_str(), cell(2).c_str(), cell(3).c_str(), flops / best / 1e9,
                     flops / cpu_times[static_cast<int>(best_algorithm)] / 1e9);
       out << line;
     }
