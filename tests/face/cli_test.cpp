@@ -141,6 +141,41 @@ TEST_F(PhotoCliTest, PhotoFilesAreTheSameBytesEncodedOnOneThreadOrTwo) {
   EXPECT_GE(files, 20);  // 8 photo-level files (faces.json, 5 PNGs, photo.exr, contact sheet), 12 of the face
 }
 
+// Several photos' faces share the network's batches and are pasted back on the writer's thread
+// (PhotoDecomposer::decompose_faces, then assemble per photo): each photo's files must be those
+// of the photo run alone (a face's results do not depend on its batch), so no photo gets another's
+// faces. Four photos of four different faces (the two examples and their mirror images), so that
+// the photos found while the writer is busy wait in one group.
+TEST_F(PhotoCliTest, PhotosBatchedTogetherGiveTheFilesOfEachAlone) {
+  fs::create_directories(dir_ / "four");
+  for (const char* name : {"astronaut.png", "grace_hopper_512x512.jpg"}) {
+    const fs::path from = dir_ / "photos" / name;
+    fs::copy_file(from, dir_ / "four" / name);
+    RgbImage image = read_rgb_image(from.string(), false);  // the sRGB values, written back as they are
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width / 2; ++x)
+        for (int c = 0; c < 3; ++c)
+          std::swap(*(image.at(x, y) + c), *(image.at(image.width - 1 - x, y) + c));
+    write_png_atomically((dir_ / "four" / ("mirrored_" + fs::path(name).stem().string() + ".png")).string(), image,
+                         false);
+  }
+  const std::string model = " --init random --width 8 --input-size 64 -o ";
+  ASSERT_EQ(run("infer " + at("four") + model + at("together"), at("log")), 0) << read_text(at("log"));
+  int files = 0;
+  for (const auto& photo : fs::directory_iterator(dir_ / "four")) {
+    ASSERT_EQ(run("infer " + photo.path().string() + model + at("alone"), at("log")), 0) << read_text(at("log"));
+    const std::string stem = photo.path().stem().string();
+    for (const auto& entry : fs::recursive_directory_iterator(dir_ / "alone" / stem)) {
+      if (!entry.is_regular_file()) continue;
+      ++files;
+      const fs::path relative = fs::relative(entry.path(), dir_ / "alone");
+      ASSERT_TRUE(fs::is_regular_file(dir_ / "together" / relative)) << relative;
+      EXPECT_EQ(read_text(entry.path()), read_text(dir_ / "together" / relative)) << relative;
+    }
+  }
+  EXPECT_GE(files, 4 * 20);  // 8 photo-level files and 12 of the face, for each photo
+}
+
 // Mean |difference| of two planar images over the pixels where `mask` is set.
 double mean_difference_in_mask(const std::vector<float>& a, const std::vector<float>& b, int channels,
                                const std::vector<float>& mask) {
