@@ -17,6 +17,7 @@
 #include "libs/inference/decomposer.h"
 #include "libs/inference/model_loading.h"
 #include "libs/io/image_io.h"
+#include "libs/light/direction_light.h"
 #include "libs/light/light_formats.h"
 #include "libs/model/default_model.h"
 #include "libs/photo/photo_pipeline.h"
@@ -111,6 +112,8 @@ sh::RgbLight light_from_array(const py::handle& object) {
   for (int i = 0; i < sh::kLightCoeffCount; ++i) {
     light[i] = a.data()[i];
     if (!std::isfinite(light[i])) throw py::value_error("the light holds a non-finite value (NaN or infinity)");
+    if (std::abs(light[i]) > light::kMaxLightCoefficient)
+      throw py::value_error("the light holds " + std::to_string(light[i]) + "; its coefficients must lie within +-1e6");
   }
   return light;
 }
@@ -151,11 +154,21 @@ struct Photo {
 
 class Model;
 
+// A path from Python as facetool opens it: one with a NUL byte would be cut short there, so it is
+// refused (ValueError naming `what`), as is an empty one.
+const std::string& checked_path(const std::string& path, const char* what) {
+  if (path.empty()) throw py::value_error(std::string(what) + ": an empty path");
+  if (path.find('\0') != std::string::npos)
+    throw py::value_error(std::string(what) + ": the path holds a NUL byte; no file has such a name");
+  return path;
+}
+
 // Photo-pipeline options of decompose(), as keyword arguments.
 PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_score,
                                 const std::string& face_region, double feather, int batch) {
   if (max_faces < 0) throw py::value_error("max_faces must be 0 (all) or more");
-  if (!(min_face_size >= 0)) throw py::value_error("min_face_size must be 0 (automatic) or more");
+  if (!(min_face_size >= 0) || min_face_size > 1e6)
+    throw py::value_error("min_face_size must be 0 (automatic) or a size in pixels up to 1e6");
   if (!(feather >= 0) || feather > 256) throw py::value_error("feather must be between 0 and 256 crop pixels");
   if (batch < 1 || batch > 1024) throw py::value_error("batch must be between 1 and 1024");
   if (!std::isfinite(min_score)) throw py::value_error("min_score must be a finite number");
@@ -177,7 +190,8 @@ PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_
 class Model {
  public:
   Model(const std::string& weights, const std::string& backend, const std::string& renderer,
-        const std::string& landmark_model, bool mirror_average, bool landmark_normals, bool light_gain)
+        const std::string& landmark_model, bool mirror_average, bool landmark_normals, bool light_gain,
+        bool light_solve)
       : landmark_model_(landmark_model.empty() ? kDefaultLandmarkModel : landmark_model) {
     backend_ = &get_backend(backend);
     plugins_.set_search_dirs(library_plugin_dirs());
@@ -187,6 +201,7 @@ class Model {
     decomposer_->set_landmark_normals(landmark_normals ? model_.landmark_normals.get() : nullptr);
     decomposer_->set_mirror_average(mirror_average);
     decomposer_->set_light_gain(light_gain);
+    decomposer_->set_light_solve(light_solve);
   }
 
   Photo decompose(RgbImage image, const std::string& source, const PhotoInferOptions& options) {
@@ -344,14 +359,16 @@ PYBIND11_MODULE(_facetool, m) {
   py::class_<Model, std::shared_ptr<Model>>(m, "Model", "A decomposition model: network and renderer plugins on one backend, and the face detector.")
       .def(py::init([](const std::optional<std::string>& weights, const std::string& backend,
                        const std::string& renderer, const std::optional<std::string>& landmark_model,
-                       bool mirror_average, bool landmark_normals, bool light_gain) {
+                       bool mirror_average, bool landmark_normals, bool light_gain, bool light_solve) {
+             if (weights) checked_path(*weights, "weights");
+             if (landmark_model) checked_path(*landmark_model, "landmark_model");
              py::gil_scoped_release release;
              return std::make_shared<Model>(weights.value_or(""), backend, renderer, landmark_model.value_or(""),
-                                            mirror_average, landmark_normals, light_gain);
+                                            mirror_average, landmark_normals, light_gain, light_solve);
            }),
            py::arg("weights") = py::none(), py::arg("backend") = "cpu", py::arg("renderer") = "sh_renderer",
            py::arg("landmark_model") = py::none(), py::arg("mirror_average") = true,
-           py::arg("landmark_normals") = true, py::arg("light_gain") = true,
+           py::arg("landmark_normals") = true, py::arg("light_gain") = true, py::arg("light_solve") = true,
            "Loads `weights` (.safetensors; None: the shipped model) on `backend` (see facetool.backends()).\n"
            "`landmark_model`: dlib's 68-point predictor (None: Debian libdlib-data's; research use only).\n"
            "`mirror_average`: each face crop beside its mirror image, the answers averaged (as the facetool\n"
@@ -359,7 +376,9 @@ PYBIND11_MODULE(_facetool, m) {
            "`landmark_normals`: the weights' landmark normal head blended into the network's normals (as the\n"
            "program; False: the network's alone, as its --no-landmark-normals, which also leaves the light's gain out).\n"
            "`light_gain`: each colour of the network's light scaled to render the face best in the head's face mask\n"
-           "(as the program; False: the network's light as it is, as its --no-light-gain).")
+           "(as the program; False: the network's light as it is, as its --no-light-gain).\n"
+           "`light_solve`: each face's light solved from its shading (a distant light plus ambient), the albedo\n"
+           "following from the photo and that shading (as the program; False: the network's light, as its --no-light-solve).")
       .def("decompose", [](Model& model, const py::handle& image, int max_faces, double min_face_size, double min_score,
                            const std::string& face_region, double feather, int batch) {
              RgbImage photo = image_from_array(image, "image");
@@ -374,6 +393,7 @@ PYBIND11_MODULE(_facetool, m) {
       .def("decompose_file", [](Model& model, const std::string& path, int max_faces, double min_face_size,
                                 double min_score, const std::string& face_region, double feather, int batch) {
              const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+             checked_path(path, "path");
              py::gil_scoped_release release;
              RgbImage photo;
              try {
@@ -418,6 +438,7 @@ PYBIND11_MODULE(_facetool, m) {
       });
 
   m.def("read_image", [](const std::string& path) {
+          checked_path(path, "path");
           RgbImage im;
           {
             py::gil_scoped_release release;
@@ -445,11 +466,23 @@ PYBIND11_MODULE(_facetool, m) {
           std::copy_n(a.data(), 9, v.begin());
           return light_array(light::from_dpr(v));
         }, py::arg("values"), "A facetool (3, 9) light (grey) from DPR's 9 numbers (docs/conventions.md).");
+  m.def("light_from_direction", [](double azimuth, double elevation, double ambient, double intensity) {
+          try {
+            return light_array(light::light_from_direction(azimuth, elevation, ambient, intensity));
+          } catch (const Error& e) {
+            throw py::value_error(e.what());
+          }
+        }, py::arg("azimuth"), py::arg("elevation"), py::kw_only(), py::arg("ambient") = 0.1, py::arg("intensity") = 1.0,
+        "A facetool (3, 9) white light: a distant light from `azimuth`, `elevation` (degrees, the photo's frame: 0, 0\n"
+        "is the camera's position, a positive azimuth to the viewer's right, a positive elevation up) plus a uniform\n"
+        "`ambient`; with albedo 1 and no occlusion it shades a surface ambient + intensity max(0, n.l), as the\n"
+        "program's `light from-direction` and `relight --light-direction`.");
   m.def("light_to_dpr", [](const py::handle& light) {
           const std::array<double, 9> v = light::to_dpr(light_from_array(light));
           return py::array_t<double>(9, v.data());
         }, py::arg("light"), "DPR's 9 numbers of a facetool (3, 9) light (Rec. 601 luma of R, G, B).");
   m.def("read_light", [](const std::string& path, const std::optional<std::string>& format) {
+          checked_path(path, "path");
           if (format) {
             const light::Format f = light::format_from_name(*format);
             return light_array(light::read_light(path, &f).light);

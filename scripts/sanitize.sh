@@ -23,7 +23,7 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFACETOOL_BUI
 # SH library, autograd, the cpu backend's bad-input checks, the renderer plugin, synth sample I/O
 # and errors, the dataset reader, the landmark model's copy (its build step runs under the
 # sanitizers too) and its trees against dlib's predictor, the landmark normal head, the EXR
-# encoder, the JPEG and PNG readers and the OpenImageIO module's loading, the light's gain, the
+# encoder, the JPEG and PNG readers and the OpenImageIO module's loading, the light's gain and solve, the
 # cpu backend's fused convolutions (direct summation from a padded copy among them), inference,
 # the command line and its table of bad inputs (cli_bad_input_*: every command, damaged files,
 # full disks, limits, signals), and the thread pool.
@@ -32,7 +32,7 @@ subset_targets=(facetool facetool_models sh_renderer paper_network paper_losses
   safetensors_test light_formats_test plugin_loader_test sh_tests autograd_test cpu_bad_input_test
   renderer_tests synth_io_test synth_errors_test synth_dataset_test infer_test light_cli_test
   progress_bar_test parser_errors_test parallel_for_test cpu_fused_test face_landmark_model_copy_test face_landmark_trees_test landmark_normals_test
-  exr_encoding_test light_gain_test image_file_test image_file_module_test
+  exr_encoding_test light_gain_test light_from_shading_test image_file_test image_file_module_test
   fuzz_replay_safetensors fuzz_replay_light_json fuzz_replay_light_text fuzz_replay_obj
   fuzz_replay_synth_sample fuzz_replay_plugin_descriptor fuzz_replay_image_file)
 if [ $# -gt 0 ]; then

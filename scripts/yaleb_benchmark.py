@@ -9,7 +9,10 @@
                                            and each subject's as one still head)
       relight [--model W --name NAME]      frontal photos relit to the +-25 degree lights: PSNR
       score  [--pred NAME=DIR ...] [--markdown FILE]
+      light  [--facetool BIN] [--name NAME] [--infer-args '...'] [--relight-args '...'] [--reuse]
+             [--markdown FILE]             the light infer estimates (below)
       run    [--facetool BIN] [--fit-bin BIN] [--fit-dir DIR] [--markdown FILE]   all of it
+             (ps, infer, fit with --fit-bin, score, light)
 
 `ps` solves Lambertian photometric stereo per subject from its single-strobe photos (ambient
 subtracted; strobes within 80 degrees of the camera axis; saturated and shadowed samples never
@@ -23,7 +26,15 @@ it also gathers each subject's landmarks for the template. `score` scores every 
 folder (`DIR/<photo stem>/normal.exr`, or infer's `photo.exr`) against the PS normals inside the
 reliability mask (where the template is defined), with the constant normal and a leave-one-out
 mean-face template on the same pixels (for the fit also the template placed by each photo's own
-landmarks), and prints the tables (the paper's Table 1 form, plus coverage). docs/benchmarks.md has the method and the figures. The data stays where it is; all
+landmarks), and prints the tables (the paper's Table 1 form, plus coverage).
+`light` runs `facetool infer --no-contact-sheet` once on every strobe photo within 90 degrees of
+the camera axis (padded) and scores the light of each photo's largest face: the direction of its
+first SH band against the strobe's and |L1|/L0, by the strobe's angle from the axis (and checks
+the sign convention); each strobe photo's albedo against the frontal photo's and the PS albedo
+(the raw photos as the baseline); and the frontal photo relit to seven strobes by `facetool
+relight --light-from` against ratio relights with the true direction (facetool's normals, the PS
+normals) and the unchanged photo (PSNR); its results go to CACHE/light/NAME.
+docs/benchmarks.md has the method and the figures. The data stays where it is; all
 output goes to the cache (default build/yaleb).
 """
 import argparse
@@ -36,6 +47,7 @@ import shutil
 import struct
 import subprocess
 import sys
+import time
 import warnings
 
 try:
@@ -570,19 +582,37 @@ def make_clean(*folders):
         os.makedirs(d)
 
 
-def padded_photos(args, photos):
-    """The evaluation photos padded by a quarter of their width on every side with their mean
-    grey, as 8-bit PNGs in CACHE/padded-photos: the crops are so tight that dlib's HOG detector
-    misses most faces; with a margin it finds more (by half the width: fewer; repeated edge
-    pixels or black: fewer still). Returns {stem: (path, pad, (h, w))}."""
-    folder = os.path.join(args.cache, "padded-photos")
+def srgb_encode(linear):
+    """0..255 linear camera values as 0..255 sRGB-encoded values (the IEC 61966-2-1 curve)."""
+    x = np.clip(linear / 255.0, 0.0, 1.0)
+    return 255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def srgb_decode(encoded):
+    """0..255 sRGB-encoded values back to 0..255 linear values."""
+    x = np.clip(encoded / 255.0, 0.0, 1.0)
+    return 255.0 * np.where(x <= 0.04045, x / 12.92, np.power((x + 0.055) / 1.055, 2.4))
+
+
+def padded_photos(args, photos, srgb=False):
+    """The given photos ([(subject, stem, path)], any of the set's) padded by a quarter of their
+    width on every side with their mean grey, as 8-bit PNGs in CACHE/padded-photos/<stem>.png:
+    the crops are so tight that dlib's HOG detector misses most faces; with a margin it finds
+    more (by half the width: fewer; repeated edge pixels or black: fewer still). Yale B's values
+    are linear in the light (photometric stereo fits them as they are); facetool reads an 8-bit
+    PNG as sRGB, as a camera writes it, so with `srgb` the values are sRGB-encoded first (in
+    CACHE/padded-photos-srgb/), and facetool then sees the linear light: the light benchmark
+    needs this (its shading is the light's); the normal benchmark keeps the raw values of its
+    published figures. Returns {stem: (path, pad, (h, w))} in the photos' order."""
+    folder = os.path.join(args.cache, "padded-photos-srgb" if srgb else "padded-photos")
     os.makedirs(folder, exist_ok=True)
     out = {}
     for _, stem, path in photos:
         img = read_pgm(path)
         pad = img.shape[1] // 4
         padded = os.path.join(folder, stem + ".png")
-        write_png8(padded, np.pad(img, pad, constant_values=float(img.mean())))
+        values = np.pad(img, pad, constant_values=float(img.mean()))
+        write_png8(padded, srgb_encode(values) if srgb else values)
         out[stem] = (padded, pad, img.shape)
     return out
 
@@ -683,6 +713,481 @@ def command_relight(args):
     if args.markdown:
         with open(args.markdown, "w") as f:
             f.write(text + "\n")
+
+
+# ---------------------------------------------------------------------------- the light benchmark
+
+# `light`: the strobes within this angle of the camera axis (degrees) are scored.
+LIGHT_MAX_ANGLE = 90.0
+# Groups of the strobe's angle from the camera axis (degrees; the upper bound belongs to the group).
+LIGHT_GROUPS = [(0, 25), (25, 50), (50, 75), (75, 90)]
+# The frontal photo relit to these strobes (azimuth, elevation), those that exist.
+LIGHT_RELIGHT_TARGETS = [(50, 0), (-50, 0), (70, 0), (-70, 0), (35, 40), (-35, 40), (0, 45)]
+RELIGHT_GROUPS = [("±50", lambda a, e: e == 0 and abs(a) == 50),
+                  ("±70", lambda a, e: e == 0 and abs(a) == 70),
+                  ("elevated", lambda a, e: is_elevated(a, e))]
+# The plain ratio relight of the numpy baselines: S = RATIO_AMBIENT + max(n.l, 0), the source's
+# S bounded below by RATIO_FLOOR (it only binds where n.l < RATIO_FLOOR - RATIO_AMBIENT).
+RATIO_AMBIENT = 0.05
+RATIO_FLOOR = 0.1
+FRONTAL = (0, 0)
+
+
+def strobe_of(stem):
+    """(azimuth, elevation) in degrees of a photo stem such as yaleB01_P00A+050E+00."""
+    m = NAME_RE.match(stem + ".pgm")
+    if not m:
+        fail(f"{stem}: not a Yale B strobe photo name")
+    return int(m.group(2)), int(m.group(3))
+
+
+def strobe_angle(azimuth, elevation):
+    """The strobe's angle from the camera axis, degrees."""
+    return math.degrees(math.acos(float(np.clip(light_direction(azimuth, elevation)[2], -1.0, 1.0))))
+
+
+def is_elevated(azimuth, elevation):
+    """The strobes high above the camera and not far to the side ((0,+45), (+-35,+40) ...)."""
+    return elevation >= 35 and abs(azimuth) <= 40
+
+
+def angle_group(angle):
+    """The LIGHT_GROUPS label of an angle from the camera axis, or None beyond the last."""
+    for low, high in LIGHT_GROUPS:
+        if angle <= high + 1e-9:
+            return f"{low}-{high}°"
+    return None
+
+
+def light_photos(data):
+    """[(subject, stem, path)] of every strobe photo within LIGHT_MAX_ANGLE of the camera axis."""
+    out = []
+    for s in subjects(data):
+        for a, e, path in list_subject(os.path.join(data, s))[0]:
+            if strobe_angle(a, e) <= LIGHT_MAX_ANGLE + 1e-9:
+                out.append((s, eval_stem(s, a, e), path))
+    if not out:
+        fail(f"{data}: no strobe photo within {LIGHT_MAX_ANGLE:g} degrees of the camera axis")
+    return out
+
+
+def read_face_light(folder):
+    """The light (27 floats, channel-major, the photo's frame: `light_photo_frame`) of the
+    largest face (box area) in infer's folder/faces.json and the number of faces, or (None, 0)
+    when no face was found."""
+    path = os.path.join(folder, "faces.json")
+    if not os.path.exists(path):
+        return None, 0
+    with open(path) as f:
+        faces = json.load(f).get("faces", [])
+    if not faces:
+        return None, 0
+
+    def area(face):
+        left, top, right, bottom = face["box"]
+        return (right - left) * (bottom - top)
+
+    face = max(faces, key=area)
+    light = np.asarray(face.get("light_photo_frame", []), np.float64)
+    if light.shape != (27,) or not np.all(np.isfinite(light)):
+        fail(f"{path}: the face's light_photo_frame is not 27 finite numbers")
+    return light, len(faces)
+
+
+def light_band1(light):
+    """(direction, |L1| / L0) of a 27-float light: its first band averaged over the colours as
+    (x, y, z) = (L3, L1, L2), normalised (None when zero), and the norm of that colour-averaged
+    vector over the colour-averaged L0 (one distant light: sqrt(3); nan when L0 <= 0)."""
+    grey = np.asarray(light, np.float64).reshape(3, 9).mean(0)
+    v = np.array([grey[3], grey[1], grey[2]])
+    norm = float(np.linalg.norm(v))
+    ratio = norm / grey[0] if grey[0] > 0 else float("nan")
+    return (v / norm if norm > 0 else None), ratio
+
+
+def read_decomposition(folder, pad, shape):
+    """From infer's folder/photo.exr, cut back to the unpadded photo (pad pixels each side,
+    shape (h, w)): the grey albedo (albedo.R/G/B / A, averaged), the unit normals and the
+    coverage (A >= 0.5, valid normals); None when there is no photo.exr."""
+    path = os.path.join(folder, "photo.exr")
+    if not os.path.exists(path):
+        return None
+    pixels, names = read_exr_channels(path)
+    need = ("A", "albedo.R", "albedo.G", "albedo.B")
+    if not all(c in names for c in need):
+        fail(f"{path}: expected the channels {', '.join(need)}; found {names}")
+    h, w = shape
+    alpha = pixels[:, :, names.index("A")]
+    albedo = sum(pixels[:, :, names.index(c)] for c in need[1:]) / 3.0 / np.maximum(alpha, 1e-6)
+    normal, valid = read_normal_prediction(path)
+    cut = (slice(pad, pad + h), slice(pad, pad + w))
+    return {"albedo": albedo[cut], "normal": normal[cut], "coverage": (alpha >= 0.5)[cut] & valid[cut]}
+
+
+def relative_rms(a, b):
+    """min over s of ||s a - b|| / ||b|| (a, b: 1-D arrays), nan when either is all zero."""
+    a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
+    aa, ab, bb = a @ a, a @ b, b @ b
+    if aa <= 0 or bb <= 0:
+        return float("nan")
+    return math.sqrt(max(bb - ab * ab / aa, 0.0) / bb)
+
+
+def psnr_pair(image, truth):
+    """PSNR (dB, peak 255) of image against truth (1-D arrays of 0..255 values): as it is, and
+    after the best single gain g = <image, truth> / <image, image>."""
+    image, truth = np.asarray(image, np.float64), np.asarray(truth, np.float64)
+
+    def psnr(x):
+        return 10 * math.log10(255.0 ** 2 / max(float(np.mean((x - truth) ** 2)), 1e-12))
+
+    gain = float(image @ truth / max(image @ image, 1e-12))
+    return psnr(image), psnr(gain * image)
+
+
+def ratio_relight(photo, normal, target):
+    """A plain ratio relight: photo x S_t / max(S_s, RATIO_FLOOR), S = RATIO_AMBIENT +
+    max(n.l, 0), the source light on the camera axis and target the strobe's unit direction."""
+    s_source = RATIO_AMBIENT + np.maximum(normal[..., 2], 0.0)
+    s_target = RATIO_AMBIENT + np.maximum(normal @ np.asarray(target, np.float64), 0.0)
+    return photo * s_target / np.maximum(s_source, RATIO_FLOOR)
+
+
+def relight_has_flag(facetool, flag):
+    """Whether `facetool relight --help` lists this option."""
+    result = subprocess.run([facetool, "relight", "--help"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    return re.search(rf"(^|[\s,]){re.escape(flag)}\b", result.stdout) is not None
+
+
+def run_light_infer(facetool, padded, extra, out, reuse):
+    """`facetool infer --no-contact-sheet EXTRA PADDED... -o OUT` (its log OUT.log), unless
+    reuse and OUT exists."""
+    if reuse and os.path.isdir(out):
+        print(f"--reuse: scoring the infer results already in {out}", flush=True)
+        return
+    make_clean(out)
+    command = [facetool, "infer", "--no-contact-sheet", *extra]
+    print(f"{' '.join(['facetool', *command[1:]])} on {len(padded)} padded photos -> {out} "
+          f"(log {out}.log) ...", flush=True)
+    start = time.monotonic()
+    run_facetool([*command, *[v[0] for v in padded.values()], "-o", out], out + ".log")
+    print(f"infer took {time.monotonic() - start:.0f} s", flush=True)
+
+
+def light_directions(photos, infer_out):
+    """Per photo stem: {azimuth, elevation, angle, faces, error (degrees), ratio (|L1|/L0),
+    estimate (the unit direction)}; error, ratio and estimate are None where no face was found."""
+    rows = {}
+    for _, stem, _ in photos:
+        a, e = strobe_of(stem)
+        light, faces = read_face_light(os.path.join(infer_out, stem))
+        row = {"azimuth": a, "elevation": e, "angle": strobe_angle(a, e), "faces": faces,
+               "error": None, "ratio": None, "estimate": None}
+        if light is not None:
+            direction, ratio = light_band1(light)
+            row["ratio"] = ratio
+            if direction is not None:
+                row["estimate"] = [float(v) for v in direction]
+                cos = float(np.clip(direction @ light_direction(a, e), -1.0, 1.0))
+                row["error"] = math.degrees(math.acos(cos))
+        rows[stem] = row
+    return rows
+
+
+def photo_groups(row):
+    """The report groups a photo belongs to: its angle group, and 'elevated' when it is."""
+    groups = [angle_group(row["angle"])]
+    if is_elevated(row["azimuth"], row["elevation"]):
+        groups.append("elevated")
+    return groups
+
+
+def group_order():
+    return [f"{low}-{high}°" for low, high in LIGHT_GROUPS] + ["elevated"]
+
+
+def sign_check(rows):
+    """The estimated directions' signs against the convention (x = -sin(az) cos(el): negative
+    for a positive azimuth; y = sin(el)), their mean bias in x and y, and the mean estimated
+    elevation per strobe elevation. Returns (lines,
+    flipped): lines for the report, flipped True when a global sign of x or y looks flipped."""
+    def mean_of(axis, pick):
+        values = [r["estimate"][axis] for r in rows.values() if r["estimate"] is not None and pick(r)]
+        return (float(np.mean(values)), len(values)) if values else (float("nan"), 0)
+
+    lines, flipped = [], False
+    for axis, name, plus, minus, expect in (
+            (0, "x", lambda r: (r["azimuth"], r["elevation"]) == (50, 0),
+             lambda r: (r["azimuth"], r["elevation"]) == (-50, 0), "negative for az +50, positive for az -50"),
+            (1, "y", lambda r: (r["azimuth"], r["elevation"]) == (0, 45),
+             lambda r: (r["azimuth"], r["elevation"]) == (0, -35), "positive for E +45, negative for E -35")):
+        (p, np_), (m, nm) = mean_of(axis, plus), mean_of(axis, minus)
+        lines.append(f"sign check {name}: mean estimated {name} {p:+.3f} ({np_} photos) vs {m:+.3f} "
+                     f"({nm} photos); the convention wants {expect}")
+        truth = np.array([light_direction(r["azimuth"], r["elevation"])[axis] for r in rows.values()
+                          if r["estimate"] is not None])
+        est = np.array([r["estimate"][axis] for r in rows.values() if r["estimate"] is not None])
+        strong = np.abs(truth) >= 0.25
+        agree = float(np.mean(np.sign(est[strong]) == np.sign(truth[strong]))) if strong.any() else float("nan")
+        lines.append(f"sign check {name}: the estimate's {name} has the strobe's sign in "
+                     f"{100 * agree:.0f} % of {int(strong.sum())} found photos with |true {name}| >= 0.25")
+        lines.append(f"bias {name}: mean estimated - true {name} {np.mean(est - truth):+.3f} over "
+                     f"{len(est)} found photos")
+        wrong = (axis == 0 and p > 0 > m) or (axis == 1 and p < 0 < m)
+        if wrong or agree < 0.25:
+            flipped = True
+            lines.append(f"!!! WARNING: the estimated light's {name} SIGN LOOKS FLIPPED against the "
+                         f"convention (docs: x = -sin(az) cos(el), y = sin(el)); not corrected here !!!")
+    by_elevation = {}
+    for r in rows.values():
+        if r["estimate"] is not None:
+            by_elevation.setdefault(r["elevation"], []).append(math.degrees(math.asin(np.clip(r["estimate"][1], -1, 1))))
+    lines.append("mean estimated elevation (°) by the strobe's elevation: " + ", ".join(
+        f"{e:+d}: {np.mean(v):+.0f} ({len(v)})" for e, v in sorted(by_elevation.items())))
+    return lines, flipped
+
+
+def direction_table(rows):
+    """Markdown lines: per group the direction error (mean, median), mean |L1|/L0, found/total."""
+    lines = ["| strobes (angle from the camera axis) | found / photos | direction error mean (°) "
+             "| median (°) | mean \\|L1\\|/L0 |", "| --- | --- | --- | --- | --- |"]
+    for group in group_order() + ["all"]:
+        members = [r for r in rows.values() if group == "all" or group in photo_groups(r)]
+        found = [r for r in members if r["error"] is not None]
+        errors = np.array([r["error"] for r in found])
+        ratios = np.array([r["ratio"] for r in members if r["ratio"] is not None])
+        cells = ([f"{errors.mean():.1f}", f"{np.median(errors):.1f}"] if errors.size else ["–", "–"])
+        cells.append(f"{np.nanmean(ratios):.2f}" if ratios.size and np.isfinite(ratios).any() else "–")
+        lines.append(f"| {group} | {len(found)} / {len(members)} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def albedo_scores(photos, padded, infer_out, cache):
+    """Per strobe photo (not the frontal one) of a subject whose frontal photo and PS exist: the
+    relative RMS after the best scale (relative_rms) of its facetool albedo against the frontal
+    photo's and against the PS albedo, and of the raw photo against the raw frontal photo and
+    against the PS albedo, all inside the PS reliability mask & both photos' coverage. Returns
+    ({stem: scores or None where no face}, {subject: frontal albedo vs PS albedo})."""
+    scores, frontal_vs_ps = {}, {}
+    by_subject = {}
+    for s, stem, path in photos:
+        by_subject.setdefault(s, []).append((stem, path))
+    for s, items in by_subject.items():
+        ps = os.path.join(cache, "ps", s)
+        front_stem = eval_stem(s, *FRONTAL)
+        paths = dict(items)
+        if front_stem not in paths or not os.path.exists(os.path.join(ps, "albedo.exr")):
+            continue
+        reliable = read_exr_channels(os.path.join(ps, "reliable.exr"))[0][:, :, 0] > 0.5
+        ps_albedo = read_exr_channels(os.path.join(ps, "albedo.exr"))[0][:, :, 0]
+        _, pad, shape = padded[front_stem]
+        front = read_decomposition(os.path.join(infer_out, front_stem), pad, shape)
+        front_raw = read_pgm(paths[front_stem])
+        if front is None:
+            continue
+        base = reliable & front["coverage"]
+        frontal_vs_ps[s] = relative_rms(front["albedo"][base], ps_albedo[base])
+        for stem, path in items:
+            if stem == front_stem:
+                continue
+            got = read_decomposition(os.path.join(infer_out, stem), *padded[stem][1:])
+            if got is None:
+                scores[stem] = None
+                continue
+            mask = base & got["coverage"]
+            raw = read_pgm(path)
+            scores[stem] = {"pixels": int(mask.sum()),
+                            "vs_frontal": relative_rms(got["albedo"][mask], front["albedo"][mask]),
+                            "vs_ps": relative_rms(got["albedo"][mask], ps_albedo[mask]),
+                            "raw_vs_frontal": relative_rms(raw[mask], front_raw[mask]),
+                            "raw_vs_ps": relative_rms(raw[mask], ps_albedo[mask])}
+    return scores, frontal_vs_ps
+
+
+def albedo_table(scores, rows):
+    """Markdown lines: mean relative RMS per group (and the +-50 degree strobes at elevation 0)."""
+    keys = ("vs_frontal", "vs_ps", "raw_vs_frontal", "raw_vs_ps")
+    lines = ["| strobes | found / photos | facetool albedo vs frontal photo's | vs PS albedo | "
+             "baseline: raw photo vs raw frontal photo | raw photo vs PS albedo |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    groups = group_order() + ["±50° (E 0)", "all"]
+    for group in groups:
+        stems = [stem for stem in scores if group == "all" or group in photo_groups(rows[stem])
+                 or (group == "±50° (E 0)" and (abs(rows[stem]["azimuth"]), rows[stem]["elevation"]) == (50, 0))]
+        found = [scores[stem] for stem in stems if scores[stem] is not None and scores[stem]["pixels"] > 0]
+        cells = [f"{np.nanmean([f[k] for f in found]):.3f}" if found else "–" for k in keys]
+        lines.append(f"| {group} | {len(found)} / {len(stems)} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def run_light_relights(facetool, subject_names, padded, out, extra, no_visibility, reuse):
+    """`facetool relight PADDED_FRONTAL --light-from PADDED_TARGET [--no-visibility] EXTRA -o
+    OUT/<target stem>` for each subject and LIGHT_RELIGHT_TARGETS photo that exists (skipped
+    with reuse when its relit.png is there). Returns [(subject, target stem)]."""
+    pairs = [(s, eval_stem(s, a, e)) for s in subject_names for a, e in LIGHT_RELIGHT_TARGETS
+             if eval_stem(s, *FRONTAL) in padded and eval_stem(s, a, e) in padded]
+    os.makedirs(out, exist_ok=True)
+    start = time.monotonic()
+    for k, (s, target) in enumerate(pairs):
+        folder = os.path.join(out, target)
+        source = padded[eval_stem(s, *FRONTAL)][0]
+        if reuse and os.path.isdir(folder):
+            continue
+        make_clean(folder)
+        print(f"[{k + 1}/{len(pairs)}] facetool relight {os.path.basename(source)} --light-from "
+              f"{target}.png", flush=True)
+        run_facetool([facetool, "relight", source, "--light-from", padded[target][0],
+                      *(["--no-visibility"] if no_visibility else []), *extra, "-o", folder],
+                     folder + ".log")
+    print(f"relight: {len(pairs)} pairs, {time.monotonic() - start:.0f} s", flush=True)
+    return pairs
+
+
+def relight_scores(pairs, photos, padded, infer_out, relight_out, cache):
+    """Per (subject, target) pair: PSNR (raw, after the best gain) against the real target photo
+    inside the PS reliability mask & the frontal result's coverage of: facetool relight (and
+    without visibility when it was written), the ratio relight with facetool's own normals and
+    the true directions, the same with the PS normals, and the unchanged frontal photo. Pairs
+    without a frontal decomposition are left out; a missing facetool result is None."""
+    path_of = {stem: path for _, stem, path in photos}
+    scores = {}
+    for s, target in pairs:
+        front_stem = eval_stem(s, *FRONTAL)
+        _, pad, shape = padded[front_stem]
+        front = read_decomposition(os.path.join(infer_out, front_stem), pad, shape)
+        ps = os.path.join(cache, "ps", s)
+        if front is None or not os.path.exists(os.path.join(ps, "normal.exr")):
+            continue
+        reliable = read_exr_channels(os.path.join(ps, "reliable.exr"))[0][:, :, 0] > 0.5
+        ps_normal = read_exr_channels(os.path.join(ps, "normal.exr"))[0][:, :, :3]
+        mask = reliable & front["coverage"]
+        frontal, truth = read_pgm(path_of[front_stem]), read_pgm(path_of[target])
+        direction = light_direction(*strobe_of(target))
+        row = {"own normals, true direction": psnr_pair(ratio_relight(frontal, front["normal"], direction)[mask], truth[mask]),
+               "PS normals, true direction": psnr_pair(ratio_relight(frontal, ps_normal, direction)[mask], truth[mask]),
+               "unchanged frontal photo": psnr_pair(frontal[mask], truth[mask])}
+        for label, name in (("facetool relight --light-from target", "relit.png"),
+                            ("facetool relight, no visibility", "relit_no_visibility.png")):
+            path = os.path.join(relight_out, target, front_stem, name)
+            # relit.png is sRGB-encoded; the photos it is scored against are linear
+            row[label] = (psnr_pair(srgb_decode(read_grey(path))[pad:pad + shape[0], pad:pad + shape[1]][mask],
+                                    truth[mask])
+                          if os.path.exists(path) else None)
+        scores[target] = row
+    return scores
+
+
+def relight_table(scores):
+    """Markdown lines: mean PSNR (raw / after the best gain) per method and target group, over
+    the pairs where facetool relight gave a result; and how often visibility helped."""
+    methods = ["facetool relight --light-from target", "facetool relight, no visibility",
+               "own normals, true direction", "PS normals, true direction", "unchanged frontal photo"]
+    done = {t: r for t, r in scores.items() if r["facetool relight --light-from target"] is not None}
+    groups = [(label, [t for t in done if pick(*strobe_of(t))]) for label, pick in RELIGHT_GROUPS]
+    groups.append(("all", list(done)))
+    lines = ["| method | " + " | ".join(f"{g} ({len(ts)} pairs)" for g, ts in groups) + " |",
+             "| --- |" + " --- |" * len(groups)]
+    for method in methods:
+        cells = []
+        for _, ts in groups:
+            values = [done[t][method] for t in ts if done[t][method] is not None]
+            cells.append(f"{np.mean([v[0] for v in values]):.2f} / {np.mean([v[1] for v in values]):.2f}"
+                         if values else "–")
+        lines.append(f"| {method} | " + " | ".join(cells) + " |")
+    both = [r for r in done.values() if r["facetool relight, no visibility"] is not None]
+    if both:
+        raw = np.mean([r["facetool relight --light-from target"][0] > r["facetool relight, no visibility"][0]
+                       for r in both])
+        gain = np.mean([r["facetool relight --light-from target"][1] > r["facetool relight, no visibility"][1]
+                        for r in both])
+        lines += ["", f"Visibility helped (higher PSNR with it than without) in {100 * raw:.0f} % of "
+                      f"{len(both)} pairs raw, {100 * gain:.0f} % after the best gain."]
+    return lines
+
+
+def write_markdown(path, text, append=False):
+    with open(path, "a" if append else "w") as f:
+        f.write(("\n" if append else "") + text + "\n")
+
+
+def command_light(args, append_markdown=False):
+    """Scores the light facetool estimates on the strobe photos within LIGHT_MAX_ANGLE of the
+    camera axis (one `infer --no-contact-sheet` run on all of them, padded): the direction of the
+    first SH band against the strobe's, |L1|/L0, the albedo's consistency across strobes, and
+    relighting the frontal photo to LIGHT_RELIGHT_TARGETS (facetool relight --light-from the
+    target photo, against ratio relights with the true directions). Results in
+    CACHE/light/NAME (results.json, the infer and relight outputs)."""
+    facetool = find_facetool(getattr(args, "facetool", None))
+    name = getattr(args, "name", None) or "light"
+    reuse = getattr(args, "reuse", False)
+    infer_extra = shlex.split(getattr(args, "infer_args", None) or "")
+    relight_args = getattr(args, "relight_args", None)
+    relight_extra = infer_extra if relight_args is None else shlex.split(relight_args)
+    photos = light_photos(args.data)
+    names = sorted({s for s, _, _ in photos})
+    missing_ps = [s for s in names if not os.path.exists(os.path.join(args.cache, "ps", s, "reliable.exr"))]
+    if missing_ps:
+        fail(f"no PS results for {', '.join(missing_ps)} in {os.path.join(args.cache, 'ps')}: run `ps` first")
+    out = os.path.join(args.cache, "light", name)
+    os.makedirs(out, exist_ok=True)
+    print(f"light: {len(photos)} photos ({len(names)} subjects, strobes within {LIGHT_MAX_ANGLE:g} "
+          f"degrees of the camera axis) -> {out}", flush=True)
+    padded = padded_photos(args, photos, srgb=True)
+    infer_out = os.path.join(out, "infer")
+    run_light_infer(facetool, padded, infer_extra, infer_out, reuse)
+    rows = light_directions(photos, infer_out)
+    no_visibility = relight_has_flag(facetool, "--no-visibility")
+    pairs = run_light_relights(facetool, names, padded, os.path.join(out, "relight"), relight_extra,
+                               no_visibility, reuse)
+    print("scoring ...", flush=True)
+    albedo, frontal_vs_ps = albedo_scores(photos, padded, infer_out, args.cache)
+    relit = relight_scores(pairs, photos, padded, infer_out, os.path.join(out, "relight"), args.cache)
+    signs, flipped = sign_check(rows)
+    multi = sum(1 for r in rows.values() if r["faces"] > 1)
+    found = sum(1 for r in rows.values() if r["faces"] > 0)
+    elevated = sorted({(r["azimuth"], r["elevation"]) for r in rows.values()
+                       if is_elevated(r["azimuth"], r["elevation"])})
+    groups = ", ".join(f"{lo}-{hi}" for lo, hi in LIGHT_GROUPS)
+    command = " ".join(["facetool infer --no-contact-sheet", *infer_extra])
+    lines = [f"## Light on yaleb-dev: {name}", "",
+             f"`{command}` on {len(photos)} strobe photos ({len(names)} subjects, every strobe within "
+             f"{LIGHT_MAX_ANGLE:g}° of the camera axis), padded by a quarter of their width; a face in "
+             f"{found} ({multi} with more than one: the largest box's light scored).", "",
+             *signs, *(["", "**THE LIGHT'S SIGN CONVENTION LOOKS FLIPPED: see above.**"] if flipped else []), "",
+             "### Light direction (the first SH band averaged over colours, (x, y, z) = (L3, L1, L2)) "
+             "against the strobe", "",
+             f"Groups by the strobe's angle from the camera axis ({groups}°, upper bound included); "
+             f"'elevated': elevation ≥ 35° and |azimuth| ≤ 40°: "
+             + ", ".join(f"({a:+d},{e:+d})" for a, e in elevated) + ". One distant light has "
+             "\\|L1\\|/L0 = 1.73.", "",
+             *direction_table(rows), "",
+             "### Albedo consistency across strobes", "",
+             "Relative RMS after the best single scale (min_s \\|\\|s a - b\\|\\| / \\|\\|b\\|\\|), grey "
+             "albedo (albedo.R/G/B / A where A ≥ 0.5), inside the PS reliability mask & the strobe "
+             "photo's & the frontal photo's coverage; mean over photos (the frontal photo itself "
+             "left out). facetool's frontal albedo against the PS albedo: "
+             + (f"{np.mean(list(frontal_vs_ps.values())):.3f} (mean of {len(frontal_vs_ps)} subjects)."
+                if frontal_vs_ps else "–."), "",
+             *albedo_table(albedo, rows), "",
+             "### Relighting the frontal photo", "",
+             "PSNR (dB, 8-bit grey, peak 255) against the real photo under the target strobe, inside the "
+             "PS reliability mask & the frontal result's coverage, mean over pairs, raw / after the "
+             "best single gain. Targets: "
+             + ", ".join(f"({a:+d},{e:+d})" for a, e in LIGHT_RELIGHT_TARGETS)
+             + f"; the pairs where facetool relight gave a result (of {len(relit)} scored). Ratio "
+             f"relights: frontal x S_t / max(S_s, {RATIO_FLOOR:g}), S = {RATIO_AMBIENT:g} + "
+             "max(n.l, 0), source light (0,0,1), the true strobe direction"
+             + ("" if no_visibility else "; this facetool's relight has no --no-visibility") + ".", "",
+             *relight_table(relit)]
+    text = "\n".join(lines)
+    print(text)
+    with open(os.path.join(out, "results.json"), "w") as f:
+        json.dump({"directions": rows, "albedo": albedo, "frontal_albedo_vs_ps": frontal_vs_ps,
+                   "relight": relit, "sign_flipped": flipped}, f, indent=1)
+    markdown = getattr(args, "markdown", None)
+    if markdown:
+        write_markdown(markdown, text, append_markdown)
 
 
 # `fit`'s options for this set unless --fit-args gives the same option: Yale B's camera is far
@@ -1057,6 +1562,17 @@ def main():
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
                    help="the ICT-FaceKit FaceXModel folder, for a model with the fit prior (default: ../shared's)")
     p.add_argument("--markdown", help="also write the table to this file")
+    p = sub.add_parser("light", help="score infer's light on the strobes within 90 degrees: direction, "
+                                     "albedo consistency, relighting")
+    p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
+    p.add_argument("--name", help="the results' folder under CACHE/light (default: light)")
+    p.add_argument("--infer-args", help="more options for infer, one string, written with '=' when it starts "
+                                        "with a dash (e.g. --infer-args=--no-light-solve)")
+    p.add_argument("--relight-args", help="more options for relight, one string (default: --infer-args; "
+                                          "give --relight-args= when those are infer's alone)")
+    p.add_argument("--reuse", action="store_true",
+                   help="score the results already in CACHE/light/NAME (run infer and relight only where missing)")
+    p.add_argument("--markdown", help="also write the tables to this file")
     p = sub.add_parser("fit", help="facetool fit on the evaluation photos")
     p.add_argument("--fit-bin", required=True, help="a facetool program with the fit command")
     p.add_argument("--face-model", default=DEFAULT_FACE_MODEL,
@@ -1069,7 +1585,7 @@ def main():
                    help="a folder of DIR/<photo stem>/normal.exr (or photo.exr); repeatable "
                         "(default: every folder under CACHE/pred)")
     p.add_argument("--markdown", help="also write the tables to this file")
-    p = sub.add_parser("run", help="ps, infer, fit (with --fit-bin) and score")
+    p = sub.add_parser("run", help="ps, infer, fit (with --fit-bin), score and light")
     p.add_argument("--facetool", help="the facetool program (default: build/bin/facetool)")
     p.add_argument("--fit-bin", help="a facetool program with the fit command")
     p.add_argument("--fit-dir", help="a folder of <photo stem>/normal.exr to score as 'fit'")
@@ -1078,7 +1594,7 @@ def main():
     p.add_argument("--fit-args", help="more options for fit, one string (e.g. '--camera orthographic'); each replaces "
                         "the same option of the set's defaults (--fov 10 --no-visibility --no-contact-sheet)")
 
-    p.add_argument("--markdown", help="also write the tables to this file")
+    p.add_argument("--markdown", help="also write the tables to this file (light's appended)")
     args = parser.parse_args()
     if args.command == "ps":
         command_ps(args)
@@ -1092,6 +1608,8 @@ def main():
         command_relight(args)
     elif args.command == "score":
         command_score(args)
+    elif args.command == "light":
+        command_light(args)
     elif args.command == "run":
         command_ps(args)
         command_infer(args)
@@ -1104,6 +1622,7 @@ def main():
                          if os.path.isdir(os.path.join(args.cache, "pred", n))]
             args.pred.append(f"fit={args.fit_dir}")
         command_score(args)
+        command_light(args, append_markdown=True)
 
 
 if __name__ == "__main__":

@@ -6,7 +6,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/sh/sh_types.h"
+
 namespace facetool {
+
+// transfer_i = sum_jk T_ijk v_j c_k(n) at one pixel: `n` a unit normal (normalised here; zero or
+// non-finite throws facetool::Error, as clamped_cosine_coeffs), `v` its 9 visibility coefficients.
+sh::ShCoeffs pixel_transfer(const sh::Vec3& n, const sh::ShCoeffs& v);
 
 // transfer_i(p) = sum_jk T_ijk v_j(p) c_k(n(p)) for every pixel p with mask[p] != 0 (0 elsewhere),
 // planar [9][plane]; `normal` planar [3][plane], `visibility` [9][plane]. The renderer's

@@ -41,6 +41,7 @@ void append_decomposition(Decomposition& a, const Decomposition& b) {
   append(a.light, b.light);
   append(a.shading, b.shading);
   append(a.reconstruction, b.reconstruction);
+  a.light_solve.insert(a.light_solve.end(), b.light_solve.begin(), b.light_solve.end());
 }
 
 Decomposition decomposition_images(const Decomposition& d, int first, int count) {
@@ -59,6 +60,8 @@ Decomposition decomposition_images(const Decomposition& d, int first, int count)
   out.light = take(d.light, 27);
   out.shading = take(d.shading, 3 * plane);
   out.reconstruction = take(d.reconstruction, 3 * plane);
+  if (d.light_solve.size() == static_cast<size_t>(d.count))
+    out.light_solve.assign(d.light_solve.begin() + first, d.light_solve.begin() + first + count);
   return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/plugin/network_plugin.h"
 #include "core/plugin/renderer_plugin.h"
+#include "libs/light/light_from_shading.h"
 #include "libs/model/landmark_normals.h"
 
 namespace facetool {
@@ -19,6 +20,9 @@ struct Decomposition {
   std::vector<float> light;           // [N,27]
   std::vector<float> shading;         // [N,3,S,S] renderer's shading (image = albedo * shading)
   std::vector<float> reconstruction;  // [N,3,S,S] re-rendered image
+  // Per crop, the light solved from its shading (Decomposer::set_light_solve); `solved` false
+  // where the solve did not run or could not solve the crop (the light is then the network's).
+  std::vector<DistantLight> light_solve;
 };
 
 class Decomposer {
@@ -49,14 +53,28 @@ class Decomposer {
   // mask says where the face is.
   void set_light_gain(bool on) { light_gain_ = on; }
   bool light_gain() const { return light_gain_; }
+  // Whether each crop's light is solved from its shading (libs/light/light_from_shading.h: a
+  // distant light plus ambient per colour that makes the renderer explain the face's pixels,
+  // robustly), replacing the network's light, and the albedo then follows from the crop and the
+  // new shading (bounded where the shading is dark); on by default (docs/photos.md, "The light
+  // from the shading"). Like the gain, only crops run with landmarks and a head; the gain then
+  // applies only to the crops the solve could not solve.
+  void set_light_solve(bool on) { light_solve_ = on; }
+  bool light_solve() const { return light_solve_; }
   const NetworkPlugin& network() const { return network_; }
 
  private:
+  // The light solve of every crop with a mask (`masks`: the head's), in place in `d`; `solved[i]`
+  // says which crops it replaced the light of.
+  void solve_lights(Decomposition& d, const std::vector<float>& images, int channels,
+                    const std::vector<std::vector<float>>& masks, Backend& backend, std::vector<bool>& solved);
+
   NetworkPlugin& network_;
   RendererPlugin& renderer_;
   bool mirror_average_ = true;
   const LandmarkNormals* landmark_normals_ = nullptr;
   bool light_gain_ = true;
+  bool light_solve_ = true;
 };
 
 }  // namespace facetool

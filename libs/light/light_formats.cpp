@@ -154,7 +154,14 @@ Format guess_format(const std::string& path) {
   return format_of_shape(parse_rows(read_text(path), path), path);
 }
 
+void check_light_values(const double* values, size_t count, const std::string& what) {
+  for (size_t i = 0; i < count; ++i)
+    check(std::isfinite(values[i]) && std::abs(values[i]) <= kMaxLightCoefficient, what, ": value ", i, " (",
+          values[i], ") is not a finite number within +-", kMaxLightCoefficient, "; lights are far smaller");
+}
+
 sh::RgbLight from_sfsnet(const std::array<double, 27>& values) {
+  check_light_values(values.data(), values.size(), "SfSNet light");
   sh::RgbLight light{};
   for (int c = 0; c < 3; ++c) {
     sh::ShCoeffs s{};
@@ -174,6 +181,7 @@ std::array<double, 27> to_sfsnet(const sh::RgbLight& light) {
 }
 
 sh::RgbLight from_dpr(const std::array<double, 9>& values) {
+  check_light_values(values.data(), values.size(), "DPR light");
   sh::ShCoeffs s;
   for (int i = 0; i < 9; ++i) s[i] = values[i];
   // Coefficients in DPR's frame, rotated into facetool's frame.
@@ -291,8 +299,9 @@ LightFile parse_light(const std::string& text, Format f, const std::string& path
         check(v.is_number(), "light file '", path, "': coefficients.", channels[c], "[", i,
               "] is not a number");
         file.light[c * 9 + i] = v.get<double>();
-        check(std::isfinite(file.light[c * 9 + i]), "light file '", path, "': coefficients.",
-              channels[c], "[", i, "] is not finite (", v.dump(), "); fix the file");
+        check(std::isfinite(file.light[c * 9 + i]) && std::abs(file.light[c * 9 + i]) <= kMaxLightCoefficient,
+              "light file '", path, "': coefficients.", channels[c], "[", i, "] is not a finite number within +-",
+              kMaxLightCoefficient, " (", v.dump(), "); fix the file");
       }
     }
     if (j.contains("metadata") && j["metadata"].is_object())
@@ -310,17 +319,20 @@ LightFile parse_light(const std::string& text, Format f, const std::string& path
           "; an rgb-table light is 9 lines of 'R G B'");
     for (int i = 0; i < sh::kCoeffCount; ++i)
       for (int c = 0; c < 3; ++c) file.light[c * sh::kCoeffCount + i] = rows[i][c];
+    check_light_values(file.light.data(), file.light.size(), "light file '" + path + "'");
   } else if (f == Format::Sfsnet) {
     check(values.size() == 27 && !has_shape(rows, 9, 3), "light file '", path, "' holds ",
           shape_text(rows), "; an SfSNet light has 27 numbers, written as 3 lines of 9");
     std::array<double, 27> a;
     std::copy(values.begin(), values.end(), a.begin());
+    check_light_values(a.data(), a.size(), "light file '" + path + "'");
     file.light = from_sfsnet(a);
   } else {
     check(values.size() == 9, "light file '", path, "' holds ", values.size(),
           " numbers; a DPR light has 9");
     std::array<double, 9> a;
     std::copy(values.begin(), values.end(), a.begin());
+    check_light_values(a.data(), a.size(), "light file '" + path + "'");
     file.light = from_dpr(a);
   }
   return file;

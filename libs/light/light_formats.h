@@ -2,12 +2,22 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <map>
 #include <string>
 
 #include "core/sh/sh_types.h"
 
 namespace facetool::light {
+
+// The largest coefficient magnitude a light may have: far above any real light (an HDR sun
+// projects to a few thousand) and far below where rendering it overflows a float. Readers and
+// converters refuse values beyond it (and non-finite ones) with a message naming them.
+constexpr double kMaxLightCoefficient = 1e6;
+// Throws facetool::Error naming `what` unless every value of `light` is finite and within
+// +-kMaxLightCoefficient.
+void check_light_values(const double* values, size_t count, const std::string& what);
+
 
 // facetool JSON: {"format": "facetool-light", "version": 1, "coefficients": {"r": [9],
 //   "g": [9], "b": [9]}, "metadata": {...}} in the paper's basis and world frame

@@ -121,8 +121,27 @@ void encode_and_write(const std::vector<EncodeJob>& jobs) {
   for (size_t i = 0; i < jobs.size(); ++i) write_file_atomically(jobs[i].path, bytes[i].data(), bytes[i].size());
 }
 
+// The light solve's answer for one face (libs/light/light_from_shading.h), its direction turned to
+// the photo's frame (the band 1 of the photo-frame light, which is the solved light's direction).
+void light_solve_json(std::ostream& o, const DistantLight& solve, const sh::RgbLight& photo_light) {
+  double d[3] = {0, 0, 0};
+  for (int c = 0; c < 3; ++c) {
+    d[0] += photo_light[c * 9 + 3];
+    d[1] += photo_light[c * 9 + 1];
+    d[2] += photo_light[c * 9 + 2];
+  }
+  const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (length > 0)
+    for (double& v : d) v /= length;
+  o << ",\n     \"light_solve\": {\"direction_photo_frame\": [" << d[0] << ", " << d[1] << ", " << d[2]
+    << "], \"ambient\": [" << solve.ambient[0] << ", " << solve.ambient[1] << ", " << solve.ambient[2]
+    << "], \"intensity\": [" << solve.intensity[0] << ", " << solve.intensity[1] << ", " << solve.intensity[2]
+    << "], \"relative_residual\": " << solve.relative_residual << ", \"pixels\": " << solve.pixels
+    << ", \"warning\": \"" << solve.warning << "\"}";
+}
+
 std::string faces_json(const std::string& source, const std::vector<FaceCrop>& crops,
-                       const std::vector<sh::RgbLight>& photo_lights) {
+                       const std::vector<sh::RgbLight>& photo_lights, const std::vector<DistantLight>& solves) {
   std::ostringstream o;
   o << std::setprecision(9) << "{\n  \"source\": \"" << source << "\",\n  \"faces\": [";
   for (size_t k = 0; k < crops.size(); ++k) {
@@ -141,7 +160,9 @@ std::string faces_json(const std::string& source, const std::vector<FaceCrop>& c
       o << (i ? ", " : "") << "[" << c.face.landmarks[i].x << ", " << c.face.landmarks[i].y << "]";
     o << "],\n     \"light_photo_frame\": [";
     for (int i = 0; i < sh::kLightCoeffCount; ++i) o << (i ? ", " : "") << photo_lights[k][i];
-    o << "]}";
+    o << "]";
+    if (k < solves.size() && solves[k].solved) light_solve_json(o, solves[k], photo_lights[k]);
+    o << "}";
   }
   o << "\n  ]\n}\n";
   return o.str();
@@ -166,7 +187,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   }
 
   auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
-  const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights);
+  const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights, photo.decomposition.light_solve);
   write_file_atomically(at("faces.json"), json.data(), json.size());
   // The photo-level pictures, each made and encoded by a job (the largest first), then written.
   const RgbImage& input = photo.photo;
@@ -317,6 +338,10 @@ int infer_photos(const std::vector<std::string>& photos, const std::vector<std::
               WriteBatch batch;
               write_photo_files(folder, photo, options);
               batch.commit();
+              const std::vector<DistantLight>& solves = photo.decomposition.light_solve;
+              for (size_t k = 0; k < solves.size(); ++k)
+                if (!solves[k].warning.empty())
+                  std::cerr << "\nphoto '" << path << "', face " << k << ": " << solves[k].warning << "\n";
             } catch (const std::bad_alloc&) {
               std::cerr << "\nphoto '" << path << "': "
                         << out_of_memory("writing the results of photo '" + path + "'", 0).what() << "\n";

@@ -26,6 +26,7 @@ from ._facetool import (  # noqa: E402,F401
     Photo,
     backends,
     default_model_path,
+    light_from_direction,
     light_from_dpr,
     light_from_sfsnet,
     light_to_dpr,
@@ -35,7 +36,7 @@ from ._facetool import (  # noqa: E402,F401
 )
 
 __all__ = [
-    "Error", "Face", "Model", "Photo", "backends", "decompose", "default_model_path", "light_from_dpr",
+    "Error", "Face", "Model", "Photo", "backends", "decompose", "default_model_path", "light_from_direction", "light_from_dpr",
     "light_from_sfsnet", "light_to_dpr", "light_to_sfsnet", "load_model", "read_image", "read_light", "relight",
 ]
 
@@ -43,7 +44,7 @@ _models = {}
 
 
 def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_model=None, mirror_average=True,
-               landmark_normals=True, light_gain=True):
+               landmark_normals=True, light_gain=True, light_solve=True):
     """Loads a decomposition model (a facetool.Model).
 
     weights: a .safetensors file (None: the shipped model, facetool-v2). backend: one of
@@ -57,9 +58,32 @@ def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_mod
     light_gain: scale each colour of the network's light to render the face best in the landmark
     normal head's face mask, as the facetool program does (False: the network's light as it is, as
     its --no-light-gain).
+    light_solve: solve each face's light from its shading (a distant light plus ambient per colour that
+    makes the renderer explain the face's pixels), the albedo following from the photo and that
+    shading, as the facetool program does (False: the network's light, as its --no-light-solve).
     """
+    if weights is not None:
+        weights = _os.fspath(weights)
+        if not weights:
+            raise ValueError("weights: an empty path; give a .safetensors file, or None for the shipped model")
+    else:
+        weights = _shipped_model()
     return Model(weights, backend=backend, renderer=renderer, landmark_model=landmark_model,
-                 mirror_average=mirror_average, landmark_normals=landmark_normals, light_gain=light_gain)
+                 mirror_average=mirror_average, landmark_normals=landmark_normals, light_gain=light_gain,
+                 light_solve=light_solve)
+
+
+def _shipped_model():
+    """The shipped model's path: where facetool finds it ($FACETOOL_MODEL_DIR, then beside the
+    library), else the copy packaged with this module (a FACETOOL_MODEL_DIR that lacks it must not
+    hide it); facetool.Error naming both places when neither has it."""
+    try:
+        return default_model_path()
+    except Error as e:
+        packaged = _os.path.join(_package_models, "facetool-v2.safetensors")
+        if _os.path.isfile(packaged):
+            return packaged
+        raise Error(f"{e} (nor in the module's own folder {_package_models})") from None
 
 
 def _default_model(backend):

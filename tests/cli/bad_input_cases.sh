@@ -81,6 +81,7 @@ EOF
   printf '{"format": "facetool-light", "version": 1, "coefficients": ' > "$FX/truncated.json"
   { for i in $(seq 27); do printf 'nan '; done; echo; } > "$FX/nan_sfsnet.txt"
   printf '1 2 3\n' > "$FX/short_dpr.txt"
+  printf '1e308 0 0 0 0 0 0 0 0\n' > "$FX/huge_dpr.txt"
   printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' > "$FX/bad_index.obj"
   head -c 3000 "$(dirname "$FACETOOL")/sh_renderer.ftplugin.so" > "$FX/truncated.ftplugin.so"
   printf 'not a shared library' > "$FX/text.ftplugin.so"
@@ -589,6 +590,11 @@ render/light-no-coefficients|nocoeffs.json|render --albedo {FX}/albedo.exr --nor
 render/light-truncated-json|truncated.json|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/truncated.json -o {OUT}/out.png
 render/light-nan-sfsnet|nan_sfsnet.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/nan_sfsnet.txt -o {OUT}/out.png
 render/light-short-dpr|short_dpr.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/short_dpr.txt -o {OUT}/out.png
+render/light-huge-dpr|huge_dpr.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/huge_dpr.txt -o {OUT}/out.png
+light/from-direction-one-angle|azimuth,elevation|light from-direction 30 -o {OUT}/light.json
+light/from-direction-nan|azimuth,elevation|light from-direction nan,0 -o {OUT}/light.json
+light/from-direction-elevation-over-90|azimuth,elevation|light from-direction 0,120 -o {OUT}/light.json
+light/from-direction-negative-ambient|--ambient|light from-direction 30,0 --ambient -1 -o {OUT}/light.json
 render/size-mismatch|picture.png|render --albedo {FX}/picture.png --normal {FX}/normal.exr --light {FX}/light.json -o {OUT}/out.png
 render/visibility-three-channels|albedo.exr|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --visibility {FX}/albedo.exr --light {FX}/light.json -o {OUT}/out.exr
 render/albedo-nan|nan.exr|render --albedo {FX}/nan.exr --normal {FX}/nan.exr --light {FX}/light.json -o {OUT}/out.exr

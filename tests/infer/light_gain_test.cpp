@@ -146,6 +146,7 @@ TEST(LightGain, DecomposerScalesTheLightAndItsRenderByTheFittedGains) {
   Decomposer decomposer(*plugins.network, *plugins.renderer);
   decomposer.set_landmark_normals(&head);
   EXPECT_TRUE(decomposer.light_gain());  // the default
+  decomposer.set_light_solve(false);     // the gain alone (with the solve it serves unsolved crops)
   std::vector<float> crop = testing::random_values(3 * plane, 10, 0.0f, 1.0f);
   decomposer.set_light_gain(false);
   const Decomposition plain = decomposer.run(backend, crop, 1, &head.mean_landmarks);
@@ -187,6 +188,75 @@ TEST(LightGain, DecomposerScalesTheLightAndItsRenderByTheFittedGains) {
   // Without landmarks there is no face mask: the light stays the network's.
   const Decomposition unmasked = decomposer.run(backend, crop, 1);
   decomposer.set_light_gain(false);
+  EXPECT_EQ(unmasked.light, decomposer.run(backend, crop, 1).light);
+}
+
+// The light solve in the decomposer (libs/light/light_from_shading.h): a crop whose face is the
+// renderer's image of the network's own layers under a distant light gets a solved light in place
+// of the network's (the solve's accuracy is tested in tests/light); the shading is the renderer's
+// for the solved light; the albedo is the crop over the shading where lit and the
+// reconstruction is albedo x shading; normals and visibility do not change; unsolved crops (no
+// landmarks) keep the network's light.
+TEST(LightSolve, DecomposerRendersTheSolvedLightAndTheAlbedoFollows) {
+  Backend& backend = get_backend("cpu");
+  testing::PaperPlugins plugins(FACETOOL_PAPER_NETWORK_PLUGIN, FACETOOL_SH_RENDERER_PLUGIN);
+  ASSERT_TRUE(plugins.network && plugins.renderer);
+  const int s = 32;
+  const size_t plane = static_cast<size_t>(s) * s;
+  plugins.network->build(backend, NetworkConfig{8, s});
+  plugins.network->init_random(5);
+  const LandmarkNormals head = left_half_head(s);
+  std::vector<float> head_normal, mask;
+  head.predict(head.mean_landmarks.data(), head_normal, mask);
+  Decomposer decomposer(*plugins.network, *plugins.renderer);
+  decomposer.set_landmark_normals(&head);
+  EXPECT_TRUE(decomposer.light_solve());  // the default
+  std::vector<float> crop = testing::random_values(3 * plane, 11, 0.2f, 0.8f);
+  decomposer.set_light_solve(false);
+  const Decomposition network = decomposer.run(backend, crop, 1, &head.mean_landmarks);
+  // The face: the network's own layers (with the head's normals blended in) under a side light.
+  DistantLight truth;
+  truth.direction = {0.5, 0.3, std::sqrt(1 - 0.25 - 0.09)};
+  truth.ambient = {0.05, 0.05, 0.05};
+  truth.intensity = {2.0, 2.0, 2.0};
+  const sh::RgbLight light = sh_light(truth);
+  std::vector<float> light_f(light.begin(), light.end());
+  RenderInputs in{Tensor::from_host(backend, Shape{1, 3, s, s}, network.albedo),
+                  Tensor::from_host(backend, Shape{1, 3, s, s}, network.normal),
+                  Tensor::from_host(backend, Shape{1, 9, s, s}, network.visibility),
+                  Tensor::from_host(backend, Shape{1, 27}, light_f), Tensor()};
+  RenderOutputs rendered;
+  plugins.renderer->forward(in, rendered);
+  const std::vector<float> image = rendered.image.to_host();
+  for (size_t k = 0; k < 3 * plane; ++k)
+    if (mask[k % plane] > 0.5f) crop[k] = image[k];
+  const Decomposition before = decomposer.run(backend, crop, 1, &head.mean_landmarks);
+  decomposer.set_light_solve(true);
+  const Decomposition after = decomposer.run(backend, crop, 1, &head.mean_landmarks);
+  ASSERT_EQ(after.light_solve.size(), 1u);
+  ASSERT_TRUE(after.light_solve[0].solved);
+  EXPECT_EQ(after.normal, before.normal);
+  EXPECT_EQ(after.visibility, before.visibility);
+  EXPECT_NE(after.light, before.light);
+  const sh::RgbLight solved = sh_light(after.light_solve[0]);
+  for (int k = 0; k < 27; ++k) EXPECT_FLOAT_EQ(after.light[k], static_cast<float>(solved[k])) << k;
+  // The renderer's shading for the solved light, and the reconstruction albedo x shading.
+  RenderInputs again{Tensor::from_host(backend, Shape{1, 3, s, s}, after.albedo),
+                     Tensor::from_host(backend, Shape{1, 3, s, s}, after.normal),
+                     Tensor::from_host(backend, Shape{1, 9, s, s}, after.visibility),
+                     Tensor::from_host(backend, Shape{1, 27}, after.light), Tensor()};
+  RenderOutputs out;
+  plugins.renderer->forward(again, out);
+  const std::vector<float> shading = out.shading.to_host();
+  for (size_t k = 0; k < 3 * plane; ++k) {
+    EXPECT_NEAR(after.shading[k], shading[k], 1e-5 * std::abs(shading[k]) + 1e-6) << k;
+    EXPECT_FLOAT_EQ(after.reconstruction[k], after.albedo[k] * after.shading[k]) << k;
+  }
+  // Without landmarks there is no face mask: nothing is solved and the light is the network's.
+  const Decomposition unmasked = decomposer.run(backend, crop, 1);
+  ASSERT_EQ(unmasked.light_solve.size(), 1u);
+  EXPECT_FALSE(unmasked.light_solve[0].solved);
+  decomposer.set_light_solve(false);
   EXPECT_EQ(unmasked.light, decomposer.run(backend, crop, 1).light);
 }
 

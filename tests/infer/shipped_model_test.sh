@@ -27,16 +27,32 @@ grep -aq '"landmark_normals":"crop ' "$model" || { echo "FAIL: $model carries no
 "$facetool" infer "$photos/astronaut.png" --no-landmark-normals -o "$work/network" 2>/dev/null
 cmp -s "$work/default/astronaut/photo.exr" "$work/network/astronaut/photo.exr" &&
   { echo "FAIL: --no-landmark-normals gives the same photo.exr as the default"; exit 1; }
-cmp -s "$work/default/astronaut/face_0/albedo.exr" "$work/network/astronaut/face_0/albedo.exr" ||
-  { echo "FAIL: the landmark normal head changed the albedo (it blends the normals only)"; exit 1; }
 "$facetool" relight "$photos/astronaut.png" --light-from "$photos/grace_hopper_512x512.jpg" --no-landmark-normals \
   -o "$work/relit-network" 2>/dev/null
-# The light's gain, fitted in the head's face mask, changes the light and not the albedo or normals.
-"$facetool" infer "$photos/astronaut.png" --no-light-gain -o "$work/no-gain" 2>/dev/null
-cmp -s "$work/default/astronaut/face_0/light.json" "$work/no-gain/astronaut/face_0/light.json" &&
+# Without the light solve (which takes its albedo from the shading, and so from the normals), the
+# head changes the normals only.
+"$facetool" infer "$photos/astronaut.png" --no-light-solve -o "$work/no-solve" 2>/dev/null
+"$facetool" infer "$photos/astronaut.png" --no-light-solve --no-landmark-normals -o "$work/no-solve-network" 2>/dev/null
+cmp -s "$work/no-solve/astronaut/face_0/albedo.exr" "$work/no-solve-network/astronaut/face_0/albedo.exr" ||
+  { echo "FAIL: the landmark normal head changed the albedo (it blends the normals only)"; exit 1; }
+# The light solve changes the light and the albedo, not the normals, and says what it found.
+for layer in light.json albedo.exr; do
+  cmp -s "$work/default/astronaut/face_0/$layer" "$work/no-solve/astronaut/face_0/$layer" &&
+    { echo "FAIL: --no-light-solve gives the same $layer as the default"; exit 1; }
+done
+cmp -s "$work/default/astronaut/face_0/normal.exr" "$work/no-solve/astronaut/face_0/normal.exr" ||
+  { echo "FAIL: the light solve changed the normals"; exit 1; }
+grep -q '"light_solve": {"direction_photo_frame"' "$work/default/astronaut/faces.json" ||
+  { echo "FAIL: faces.json does not give the solved light"; exit 1; }
+grep -q '"light_solve"' "$work/no-solve/astronaut/faces.json" &&
+  { echo "FAIL: faces.json gives a solved light under --no-light-solve"; exit 1; }
+# The light's gain (without the solve), fitted in the head's face mask, changes the light and not
+# the albedo or normals.
+"$facetool" infer "$photos/astronaut.png" --no-light-solve --no-light-gain -o "$work/no-gain" 2>/dev/null
+cmp -s "$work/no-solve/astronaut/face_0/light.json" "$work/no-gain/astronaut/face_0/light.json" &&
   { echo "FAIL: --no-light-gain gives the same light as the default"; exit 1; }
 for layer in albedo normal; do
-  cmp -s "$work/default/astronaut/face_0/$layer.exr" "$work/no-gain/astronaut/face_0/$layer.exr" ||
+  cmp -s "$work/no-solve/astronaut/face_0/$layer.exr" "$work/no-gain/astronaut/face_0/$layer.exr" ||
     { echo "FAIL: the light's gain changed the $layer (it scales the light only)"; exit 1; }
 done
 
@@ -64,8 +80,11 @@ framing=$(grep -ao '"framing":"[^"]*"' "$model" | sed 's/"framing":"//; s/"$//')
 "$facetool" eval --data "$work/real" --no-landmark-normals -o "$work/eval-network" >/dev/null 2>&1
 cmp -s "$work/eval/per_image.csv" "$work/eval-network/per_image.csv" &&
   { echo "FAIL: eval ignores the landmark normal head"; exit 1; }
-"$facetool" eval --data "$work/real" --no-light-gain -o "$work/eval-no-gain" >/dev/null 2>&1
-cmp -s "$work/eval/per_image.csv" "$work/eval-no-gain/per_image.csv" &&
+"$facetool" eval --data "$work/real" --no-light-solve -o "$work/eval-no-solve" >/dev/null 2>&1
+cmp -s "$work/eval/per_image.csv" "$work/eval-no-solve/per_image.csv" &&
+  { echo "FAIL: eval ignores --no-light-solve"; exit 1; }
+"$facetool" eval --data "$work/real" --no-light-solve --no-light-gain -o "$work/eval-no-gain" >/dev/null 2>&1
+cmp -s "$work/eval-no-solve/per_image.csv" "$work/eval-no-gain/per_image.csv" &&
   { echo "FAIL: eval ignores --no-light-gain"; exit 1; }
 "$facetool" pseudo-label "$work/real"/sample_*.exr -o "$work/pseudo" 2>/dev/null
 [ -s "$work/pseudo/sample_00000000.exr" ] || { echo "FAIL: pseudo-label without --model wrote nothing"; exit 1; }

@@ -137,9 +137,9 @@ def test_mirror_average_answers_the_mirrored_photo_with_the_mirrored_answer(phot
 def test_the_landmark_normal_head_changes_the_normals_only(photo):
     """The shipped weights carry a landmark normal head: the default blends its normals into the
     network's (docs/model-card.md); landmark_normals=False gives the network's alone. The albedo
-    and the light come from the network either way (the light's gain, which needs the head's
-    face mask, left out on both sides)."""
-    head = facetool.load_model(light_gain=False).decompose(photo.image)
+    and the light come from the network either way (the light's gain and solve, which need the
+    head's face mask, left out on both sides)."""
+    head = facetool.load_model(light_gain=False, light_solve=False).decompose(photo.image)
     alone = facetool.load_model(landmark_normals=False).decompose(photo.image)
     a, b = head.faces[0], alone.faces[0]
     inside = a.mask > 0.5
@@ -152,14 +152,46 @@ def test_the_lights_gain_scales_each_colour_of_the_light(photo):
     """The default scales each colour of the network's light to render the face best
     (docs/photos.md, "The light's gain"); light_gain=False keeps the network's: the two lights
     differ by one factor per colour, the shading by the same factors, the albedo and normals not."""
-    plain = facetool.load_model(light_gain=False).decompose(photo.image).faces[0]
-    gained = photo.faces[0]
+    plain = facetool.load_model(light_gain=False, light_solve=False).decompose(photo.image).faces[0]
+    gained = facetool.load_model(light_solve=False).decompose(photo.image).faces[0]
     gain = gained.light[:, 0] / plain.light[:, 0]
     assert np.abs(gain - 1).max() > 1e-3
     np.testing.assert_allclose(gained.light, plain.light * gain[:, None], rtol=1e-5, atol=1e-7)
     np.testing.assert_allclose(gained.shading, plain.shading * gain[None, None, :], rtol=1e-5, atol=1e-6)
     np.testing.assert_array_equal(gained.albedo, plain.albedo)
     np.testing.assert_array_equal(gained.normal, plain.normal)
+
+
+@needs_photo_model
+def test_the_light_solve_replaces_the_light_and_the_albedo_follows(photo):
+    """The default solves each face's light from its shading (docs/photos.md, "The light from the
+    shading"): a distant light plus ambient, so the light differs from the network's; the normals
+    stay; the albedo follows from the photo and the new shading, and the reconstruction is albedo
+    times shading."""
+    network = facetool.load_model(light_solve=False).decompose(photo.image).faces[0]
+    solved = photo.faces[0]
+    np.testing.assert_array_equal(solved.normal, network.normal)
+    assert np.abs(solved.light - network.light).max() > 1e-3
+    assert np.abs(solved.albedo - network.albedo).max() > 1e-2
+    np.testing.assert_allclose(solved.reconstruction, solved.albedo * solved.shading, rtol=1e-5, atol=1e-6)
+    assert np.isfinite(solved.light).all()
+
+
+def test_light_from_direction_shades_ambient_plus_the_cosine():
+    """facetool.light_from_direction: a white distant light; facing it, with nothing occluded, the
+    shading is ambient + 1.0625 x intensity (the 9 coefficients' cosine), as `light from-direction`."""
+    light = facetool.light_from_direction(30.0, 10.0, ambient=0.2, intensity=1.5)
+    assert light.shape == (3, 9)
+    a, e = np.radians(30.0), np.radians(10.0)
+    d = np.array([np.sin(a) * np.cos(e), np.sin(e), np.cos(a) * np.cos(e)])
+    y = np.array([0.282095, 0.488603 * d[1], 0.488603 * d[2], 0.488603 * d[0], 1.092548 * d[0] * d[1],
+                  1.092548 * d[1] * d[2], 0.315392 * (3 * d[2] ** 2 - 1), 1.092548 * d[0] * d[2],
+                  0.546274 * (d[0] ** 2 - d[1] ** 2)])
+    band = np.array([np.pi] + [2 * np.pi / 3] * 3 + [np.pi / 4] * 5)
+    shading = (light * band * y).sum(-1) / np.pi
+    np.testing.assert_allclose(shading, 0.2 + 1.5 * 1.0625, rtol=1e-5)
+    with pytest.raises(ValueError):
+        facetool.light_from_direction(float("nan"), 0.0)
 
 
 @needs_photo_model
@@ -228,6 +260,17 @@ def test_bad_arrays_raise_clear_exceptions(model):
         facetool.light_from_sfsnet(np.zeros(26))
     with pytest.raises(ValueError, match=r"\(3, 9\)"):
         facetool.light_to_dpr(np.zeros((9, 3)))
+    for size in (float("inf"), float("nan"), -1.0, 2e6):
+        with pytest.raises(ValueError, match="min_face_size"):
+            model.decompose(np.zeros((16, 16, 3), dtype=np.float32), min_face_size=size)
+    # Lights: non-finite or absurd values are refused, never turned into NaN lights.
+    for bad in (float("nan"), float("inf"), 1e308):
+        with pytest.raises(facetool.Error, match="DPR light"):
+            facetool.light_from_dpr([bad] + [0.0] * 8)
+        with pytest.raises(facetool.Error, match="SfSNet light"):
+            facetool.light_from_sfsnet([bad] + [0.0] * 26)
+    with pytest.raises(ValueError, match="within"):
+        facetool.light_to_dpr(np.full((3, 9), 1e38))
 
 
 @needs_photo_model

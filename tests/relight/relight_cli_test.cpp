@@ -103,6 +103,29 @@ TEST_F(RelightCliTest, FullTurnOfTheLightReturnsThePhoto) {
   EXPECT_GT(max_difference(at("quarter/astronaut/relit.png"), photo), 4.0 / 255);
 }
 
+// `light from-direction` writes the light `relight --light-direction` uses: the same relit photo
+// from the file as from the angles, and another direction gives another photo.
+TEST_F(RelightCliTest, LightDirectionRoundTripsThroughALightFile) {
+  const std::string photo = at("photos/astronaut.png");
+  ASSERT_EQ(run("light from-direction 35,15 --ambient 0.2 --intensity 1.5 -o " + at("side.json"), at("log")), 0)
+      << read_text(at("log"));
+  ASSERT_EQ(run("relight " + photo + " --light " + at("side.json") + kNet + "-o " + at("file"), at("log")), 0)
+      << read_text(at("log"));
+  ASSERT_EQ(run("relight " + photo + " --light-direction 35,15 --ambient 0.2 --intensity 1.5" + kNet + "-o " +
+                    at("angles"), at("log")), 0)
+      << read_text(at("log"));
+  EXPECT_EQ(max_difference(at("file/astronaut/relit.png"), at("angles/astronaut/relit.png")), 0.0);
+  ASSERT_EQ(run("relight " + photo + " --light-direction=-35,15 --ambient 0.2 --intensity 1.5" + kNet + "-o " +
+                    at("other"), at("log")), 0)
+      << read_text(at("log"));
+  EXPECT_GT(max_difference(at("other/astronaut/relit.png"), at("angles/astronaut/relit.png")), 4.0 / 255);
+  // --ambient without --light-direction, and a malformed direction, are usage errors.
+  EXPECT_EQ(run("relight " + photo + " --light " + at("side.json") + " --ambient 0.3" + kNet + "-o " + at("bad1"),
+                at("log")), 2);
+  EXPECT_EQ(run("relight " + photo + " --light-direction 35" + kNet + "-o " + at("bad2"), at("log")), 2);
+  EXPECT_NE(read_text(at("log")).find("azimuth,elevation"), std::string::npos) << read_text(at("log"));
+}
+
 TEST_F(RelightCliTest, BadInputsFailWithClearMessagesAndWriteNothing) {
   const std::string photo = at("photos/astronaut.png");
   {  // a light file of the wrong size: 20 numbers

@@ -9,6 +9,7 @@
 #include "apps/facetool/commands/command_options.h"
 #include "apps/facetool/commands/output_option.h"
 #include "apps/facetool/commands/light_rotation.h"
+#include "libs/light/direction_light.h"
 #include "libs/light/light_formats.h"
 #include "libs/light/light_preview.h"
 #include "libs/light/environment_map_file.h"
@@ -25,6 +26,7 @@ const char kOverview[] =
     "usage: facetool light <subcommand> [options]\n\n"
     "SH lights (27 coefficients: R0..R8, G0..G8, B0..B8; docs/conventions.md):\n"
     "  from-envmap ENV.{hdr,exr} -o light.json   project an equirectangular environment map\n"
+    "  from-direction AZ,EL -o light.json        a distant light from angles in degrees, plus ambient\n"
     "  convert IN OUT --to {facetool,sfsnet,dpr}  convert between light file formats\n"
     "  show LIGHT -o light.png                    picture: lit sphere + radiance panorama\n\n"
     "Run 'facetool light <subcommand> --help' for its options.\n";
@@ -99,6 +101,47 @@ int run_from_envmap(const std::vector<std::string>& args) {
   std::cout << "light: " << output << " (from " << input << ", " << map.width << "x"
             << map.height << ")\n"
             << "  L_0 (R G B): " << format_channel(light, 0) << "  (mean radiance x 2 sqrt(pi))\n";
+  return 0;
+}
+
+int run_from_direction(const std::vector<std::string>& args) {
+  po::options_description options("Options");
+  po::options_description hidden;
+  std::string angles_text, output;
+  double ambient = 0.1, intensity = 1.0;
+  add_output_option(options, hidden, &output, "FILE.json", "facetool light file to write");
+  options.add_options()
+      ("ambient", po::value(&ambient)->default_value(0.1), "the uniform light beside the distant one")
+      ("intensity", po::value(&intensity)->default_value(1.0),
+       "the distant light's strength: a surface facing it is shaded this much above the ambient (albedo 1)");
+  hidden.add_options()("angles", po::value(&angles_text)->required(), "azimuth,elevation in degrees");
+  po::positional_options_description positional;
+  positional.add("angles", 1);
+  po::variables_map values;
+  if (!parse_command_options(
+          "light from-direction AZ,EL -o FILE.json [--ambient A] [--intensity I]",
+          "Writes a white distant light from azimuth AZ and elevation EL (degrees, the photo's frame:\n"
+          "0,0 is the camera's position, a positive azimuth moves the light to the viewer's right, a\n"
+          "positive elevation up; for a negative azimuth end the options with --: -o L.json -- -40,20)\n"
+          "plus a uniform ambient, as 27 SH coefficients: with albedo 1 and no occlusion a surface of normal n is shaded\n"
+          "A + I max(0, n.l). `relight --light-direction AZ,EL --ambient A --intensity I` uses the same light.",
+          options, positional, args, values, hidden))
+    return 0;
+  check_option_ranges(values, {{"ambient", 0, 1e6}, {"intensity", 0, 1e6}});
+  check_output_option(values, "light from-direction", "the light file to write with -o FILE.json");
+  if (output.empty()) throw UsageError("-o FILE.json must not be empty");
+  const std::array<double, 2> angles = parse_azimuth_elevation(angles_text);
+  light::LightFile file;
+  file.light = light::light_from_direction(angles[0], angles[1], ambient, intensity);
+  char text[200];
+  std::snprintf(text, sizeof(text), "azimuth %.9g, elevation %.9g degrees; ambient %.9g, intensity %.9g", angles[0],
+                angles[1], ambient, intensity);
+  file.metadata["direction"] = text;
+  file.metadata["created_by"] = "facetool light from-direction";
+  light::write_light(output, file, light::Format::Facetool);
+  const sh::Vec3 d = light::direction_from_angles(angles[0], angles[1]);
+  std::printf("light: %s (towards (%.4f, %.4f, %.4f) in the photo's frame, +X right, +Y up, +Z to the viewer)\n",
+              output.c_str(), d[0], d[1], d[2]);
   return 0;
 }
 
@@ -199,10 +242,11 @@ int run_light(CommandContext&, const std::vector<std::string>& args) {
   }
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "from-envmap") return run_from_envmap(rest);
+  if (args[0] == "from-direction") return run_from_direction(rest);
   if (args[0] == "convert") return run_convert(rest);
   if (args[0] == "show") return run_show(rest);
   throw UsageError("unknown light subcommand '" + args[0] +
-                   "'; subcommands: from-envmap, convert, show");
+                   "'; subcommands: from-envmap, from-direction, convert, show");
 }
 
 const CommandRegistration registration{

@@ -1,4 +1,4 @@
-// Light rotations given on the command line: "yaw,pitch,roll" in degrees (light from-envmap, relight).
+// Light angles given on the command line: rotations (light from-envmap, relight) and directions (light from-direction, relight).
 #include "apps/facetool/commands/light_rotation.h"
 
 #include <cmath>
@@ -22,22 +22,40 @@ sh::Mat3 multiply(const sh::Mat3& a, const sh::Mat3& b) {
 
 }  // namespace
 
-std::array<double, 3> parse_rotation(const std::string& text) {
-  std::array<double, 3> angles{};
+namespace {
+
+// Comma-separated finite numbers; false when `text` does not hold exactly `count` of them.
+bool parse_angles(const std::string& text, double* angles, int count) {
   std::istringstream in(text);
   std::string part;
-  int count = 0;
+  int found = 0;
   bool ok = true;
   while (std::getline(in, part, ',')) {
     char* end = nullptr;
     const double value = std::strtod(part.c_str(), &end);
-    if (count >= 3 || part.empty() || *end != '\0' || !std::isfinite(value)) ok = false;
-    if (count < 3) angles[count] = value;
-    ++count;
+    if (found >= count || part.empty() || *end != '\0' || !std::isfinite(value)) ok = false;
+    if (found < count) angles[found] = value;
+    ++found;
   }
-  if (!ok || count != 3)
+  return ok && found == count;
+}
+
+}  // namespace
+
+std::array<double, 3> parse_rotation(const std::string& text) {
+  std::array<double, 3> angles{};
+  if (!parse_angles(text, angles.data(), 3))
     throw UsageError("--rotate expects yaw,pitch,roll in degrees such as 30,0,0 (write "
                      "--rotate=-30,0,0 for a negative first angle); got '" + text + "'");
+  return angles;
+}
+
+std::array<double, 2> parse_azimuth_elevation(const std::string& text) {
+  std::array<double, 2> angles{};
+  if (!parse_angles(text, angles.data(), 2) || std::abs(angles[0]) > 360 || std::abs(angles[1]) > 90)
+    throw UsageError("a light direction is azimuth,elevation in degrees such as 40,20 (azimuth within -360..360, "
+                     "elevation within -90..90; write --light-direction=-40,20 for a negative azimuth); got '" +
+                     text + "'");
   return angles;
 }
 

@@ -1,4 +1,4 @@
-// Light rotations given on the command line: "yaw,pitch,roll" in degrees (light from-envmap, relight).
+// Light angles given on the command line: "yaw,pitch,roll" rotations and "azimuth,elevation" directions, in degrees.
 #pragma once
 
 #include <array>
@@ -7,6 +7,9 @@
 #include "core/sh/sh_types.h"
 
 namespace facetool {
+
+// "azimuth,elevation" in degrees -> the two angles (libs/light/direction_light.h); UsageError otherwise.
+std::array<double, 2> parse_azimuth_elevation(const std::string& text);
 
 // "yaw,pitch,roll" in degrees -> the three angles; UsageError otherwise.
 std::array<double, 3> parse_rotation(const std::string& text);

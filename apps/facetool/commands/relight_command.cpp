@@ -15,6 +15,7 @@
 #include "libs/photo/relight_pipeline.h"
 #include "core/backend/registry.h"
 #include "libs/face/face_detector.h"
+#include "libs/light/direction_light.h"
 #include "libs/light/light_formats.h"
 #include "libs/relight/animated_gif.h"
 #include "libs/light/environment_map_file.h"
@@ -36,8 +37,14 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The new light from --light or --envmap (--light-from is handled once the source is decomposed).
+// The new light from --light, --light-direction or --envmap (--light-from is handled once the
+// source is decomposed).
 sh::RgbLight light_from_file_options(const po::variables_map& values) {
+  if (values.count("light-direction")) {
+    const std::array<double, 2> angles = parse_azimuth_elevation(values["light-direction"].as<std::string>());
+    return light::light_from_direction(angles[0], angles[1], values["ambient"].as<double>(),
+                                       values["intensity"].as<double>());
+  }
   if (values.count("light")) {
     const std::string path = values["light"].as<std::string>();
     check_regular_input_file(path, kMaxTextFileBytes, "light file");
@@ -65,9 +72,16 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
       ("light-format", po::value<std::string>(), "format of --light: facetool, sfsnet or dpr (default: guessed from the file)")
       ("light-from", po::value<std::string>(), "light transfer: the light estimated on this photo's best face")
       ("envmap", po::value<std::string>(), "new light: an equirectangular environment map (.hdr, .exr), projected to SH")
+      ("light-direction", po::value<std::string>()->value_name("AZ,EL"),
+       "new light: a distant white light from azimuth AZ and elevation EL in degrees, in the photo's frame: 0,0 is "
+       "the camera's position, a positive azimuth moves the light to the viewer's right, a positive elevation up; "
+       "it shades a surface facing it --intensity above --ambient, as `light from-direction` (write "
+       "--light-direction=-40,10 for a negative azimuth)")
+      ("ambient", po::value<double>()->default_value(0.1), "the uniform light beside --light-direction, in the same units")
       ("rotate", po::value<std::string>()->value_name("YAW,PITCH,ROLL"),
        "turn the new light by these angles in degrees, as `light from-envmap --rotate` (write --rotate=-30,0,0 for a negative yaw)")
-      ("intensity", po::value<double>()->default_value(1.0), "multiply the new light by this factor")
+      ("intensity", po::value<double>()->default_value(1.0),
+       "multiply the new light by this factor (with --light-direction: the distant light's strength, beside --ambient)")
       ("mode", po::value<std::string>()->default_value("ratio"),
        "ratio: photo x new shading / old shading (keeps the photo's detail); render: albedo x new shading")
       ("ratio-epsilon", po::value<double>()->default_value(relight::kDefaultRatioEpsilon, "0.02"),
@@ -90,7 +104,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   positional.add("photos", -1);
   po::variables_map values;
   if (!parse_command_options(
-          "relight PHOTO|DIR... (--light L | --light-from PHOTO2 | --envmap MAP) [--model W | --init random] -o DIR [options]",
+          "relight PHOTO|DIR... (--light L | --light-from PHOTO2 | --light-direction AZ,EL | --envmap MAP) [--model W | --init random] -o DIR [options]",
           "Decomposes every face of each photo once, replaces its light by the new one and re-renders it\n"
           "with the estimated visibility (so nostrils, eye sockets and mouth keep their self-shadowing),\n"
           "then pastes it back into the photo at the photo's resolution. The new light is given in the\n"
@@ -105,6 +119,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   for (const OptionRange& range : photo_option_ranges()) ranges.push_back(range);
   for (const OptionRange& range : std::vector<OptionRange>{{"intensity", 0, 1e6},
                                                            {"ratio-epsilon", 1e-6, 10},
+                                                           {"ambient", 0, 1e6},
                                                            {"orbit", 0, 3600},
                                                            {"fps", 1, 100},
                                                            {"sheet-height", 16, 4096},
@@ -114,8 +129,12 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
 
   if (!values.count("photos")) throw UsageError("relight: no target photos given");
   if (!values.count("output")) throw UsageError("relight: give an output folder with -o DIR");
-  const int sources = static_cast<int>(values.count("light") + values.count("light-from") + values.count("envmap"));
-  if (sources != 1) throw UsageError("relight: give exactly one of --light FILE, --light-from PHOTO or --envmap MAP");
+  const int sources = static_cast<int>(values.count("light") + values.count("light-from") + values.count("envmap") +
+                                       values.count("light-direction"));
+  if (sources != 1)
+    throw UsageError("relight: give exactly one of --light FILE, --light-from PHOTO, --light-direction AZ,EL or --envmap MAP");
+  if (!values["ambient"].defaulted() && !values.count("light-direction"))
+    throw UsageError("relight: --ambient goes with --light-direction");
   if (values.count("light-format") && !values.count("light"))
     throw UsageError("relight: --light-format goes with --light");
   check_network_choice(values, "relight");
@@ -172,7 +191,9 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
     light = *file_light;
   }
   if (rotation) light = sh::rotate_light(light, *rotation);
-  light = relight::scale_light(light, intensity);
+  // --intensity scales the new light; with --light-direction it is the distant light's own
+  // strength (beside --ambient), as in `light from-direction`.
+  if (!values.count("light-direction")) light = relight::scale_light(light, intensity);
 
   // One run per output folder, from the first write on (a run refused on its light writes none).
   {

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals and --no-light-gain.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals, --no-light-gain and --no-light-solve.
 #include "apps/facetool/infer/network_loading.h"
 
 #include "libs/model/default_model.h"
@@ -39,13 +39,17 @@ void add_landmark_head_options(po::options_description& options) {
        "(the shipped model does) blend its normals, predicted from each face's landmarks, into the network's "
        "(docs/model-card.md, \"The landmark normal head\"); also leaves the light's gain out")
       ("no-light-gain", "the network's light as it is: without it, each colour of the light is scaled to render the "
-       "face best in the landmark normal head's face mask (docs/photos.md, \"The light's gain\")");
+       "face best in the landmark normal head's face mask (docs/photos.md, \"The light's gain\")")
+      ("no-light-solve", "the network's light (with its gain): without it, each face's light is solved from its shading, "
+       "a distant light plus ambient that makes the renderer explain the face's pixels, and the albedo follows from "
+       "the photo and that shading (docs/photos.md, \"The light from the shading\")");
 }
 
 void apply_landmark_head_options(const po::variables_map& values, Decomposer& decomposer,
                                  const LoadedNetwork& loaded) {
   decomposer.set_landmark_normals(values.count("no-landmark-normals") ? nullptr : loaded.landmark_normals.get());
   decomposer.set_light_gain(values.count("no-light-gain") == 0);
+  decomposer.set_light_solve(values.count("no-light-solve") == 0);
 }
 
 std::vector<OptionRange> network_option_ranges() {

@@ -1,4 +1,4 @@
-// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals and --no-light-gain.
+// The network options shared by `infer` and `relight` (--model W, default the shipped model, or --init random), --no-mirror-average, --no-landmark-normals, --no-light-gain and --no-light-solve.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -17,7 +17,7 @@
 namespace facetool {
 
 // --model, --init, --seed, --width, --input-size, --network, --face-model, --no-mirror-average,
-// --no-landmark-normals, --no-light-gain.
+// --no-landmark-normals, --no-light-gain, --no-light-solve.
 void add_network_options(boost::program_options::options_description& options);
 
 // --no-mirror-average, and applying it: the commands that run a trained network average each
@@ -25,7 +25,7 @@ void add_network_options(boost::program_options::options_description& options);
 void add_mirror_average_option(boost::program_options::options_description& options);
 void apply_mirror_average_option(const boost::program_options::variables_map& values, Decomposer& decomposer);
 
-// --no-landmark-normals and --no-light-gain, and applying them: the weights' landmark normal head,
+// --no-landmark-normals, --no-light-gain and --no-light-solve, and applying them: the weights' landmark normal head,
 // if they carry one (libs/model/landmark_normals.h), and the light's gain fitted in its face mask
 // (libs/inference/light_gain.h) are used unless told not to.
 void add_landmark_head_options(boost::program_options::options_description& options);
