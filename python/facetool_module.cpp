@@ -17,6 +17,7 @@
 #include "libs/inference/decomposer.h"
 #include "libs/inference/model_loading.h"
 #include "libs/io/image_io.h"
+#include "core/util/terminal_text.h"
 #include "libs/light/direction_light.h"
 #include "libs/light/light_formats.h"
 #include "libs/model/default_model.h"
@@ -247,7 +248,16 @@ relight::Mode mode_from_name(const std::string& mode) {
 PYBIND11_MODULE(_facetool, m) {
   using namespace facetool;
   m.doc() = "facetool: intrinsic face decomposition (albedo, normals, SH visibility, SH light) of photos.";
-  py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+  // facetool.Error with the message made printable and valid UTF-8 (a file's bytes quoted in it
+  // would otherwise leave Python an empty message).
+  static py::exception<Error> error_type(m, "Error", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const Error& e) {
+      error_type(printable_text(e.what()).c_str());
+    }
+  });
   m.attr("Error").attr("__doc__") = "A facetool failure (unreadable file, no face found, missing model or plugin); the message says what to do.";
 
   m.def("backends", &available_backends,

@@ -7,7 +7,8 @@ namespace facetool {
 
 // `text` with every control byte but newline and tab (escape sequences, carriage returns, bells,
 // DEL) written as \xNN, so bytes quoted from a hostile file cannot move the cursor, recolour or
-// retitle the user's terminal.
+// retitle the user's terminal; bytes that are not valid UTF-8 are written as \xNN too, so the
+// result is valid UTF-8 (Python's exceptions need it).
 std::string printable_text(const std::string& text);
 
 }  // namespace facetool

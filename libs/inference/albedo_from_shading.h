@@ -7,8 +7,8 @@ namespace facetool {
 
 // Where the shading is this fraction of the face's median shading or less, the albedo stays the
 // network's; from there to kLitShading the photo's ratio fades in.
-constexpr float kDarkShading = 0.1f;
-constexpr float kLitShading = 0.3f;
+constexpr float kDarkShading = 0.02f;
+constexpr float kLitShading = 0.08f;
 // The ratio of the new albedo to the network's is kept within [1 / kMaxAlbedoRatio, kMaxAlbedoRatio].
 constexpr float kMaxAlbedoRatio = 5.0f;
 

@@ -26,7 +26,8 @@ constexpr double kFineRadiusDeg = 6.0;
 constexpr double kBehindDeg = 90.0;    // a light behind the plane facing the camera is warned of
 constexpr double kFeatureDarkness = 0.75;
 constexpr int kDetailDivisor = 32;          // the albedo's blur radius: the crop's size / this (3 px at 96)
-constexpr double kAmbientQuantile = 0.05;   // the ambient's ceiling: this quantile of the darkest pixels
+constexpr int kPixelStride = 2;             // every second pixel of every second row is fitted
+constexpr double kAmbientQuantile = 0.15;   // the ambient's ceiling: this quantile of the darkest pixels
 constexpr double kDarkFace = 0.08;  // the face's median brightness below this fraction of its 99th percentile: warned of  // albedo below this fraction of its blur: a dark feature
 
 // One fitted pixel: its transfer (divided by pi), its colours, its albedo in the fit.
@@ -90,13 +91,14 @@ std::vector<double> smooth_over_mask(const float* albedo, const std::vector<doub
   return out;
 }
 
-Moments moments(const std::vector<Pixel>& pixels, const std::vector<double>& weight, int channel, bool grey) {
+// The moments of one colour, or with `joint` of the three colours together (one white light).
+Moments moments(const std::vector<Pixel>& pixels, const std::vector<double>& weight, int channel, bool joint) {
   Moments m{};
   for (size_t k = 0; k < pixels.size(); ++k) {
     const Pixel& px = pixels[k];
     const double w = weight[k];
     if (w <= 0) continue;
-    const int first = grey ? 0 : channel, last = grey ? 2 : channel;
+    const int first = joint ? 0 : channel, last = joint ? 2 : channel;
     for (int c = first; c <= last; ++c) {
       double u[9];
       for (int i = 0; i < 9; ++i) u[i] = px.albedo[c] * px.transfer[i];
@@ -203,7 +205,7 @@ Candidate search(const Moments* m, const double* max_ambient, int channels) {
 // over albedo x the shading of a uniform unit radiance: the ambient no more than that many of the
 // face's pixels are darker than (the distant light's part taken out, so that its 9 coefficients'
 // ringing below zero behind the terminator counts).
-void ambient_ceiling(const std::vector<Pixel>& pixels, bool grey, int channels, const Candidate& best,
+void ambient_ceiling(const std::vector<Pixel>& pixels, bool joint, int channels, const Candidate& best,
                      double quantile, double* out) {
   double y[9];
   sh::sh_basis(best.direction[0], best.direction[1], best.direction[2], y);
@@ -213,7 +215,7 @@ void ambient_ceiling(const std::vector<Pixel>& pixels, bool grey, int channels, 
       double direct = 0;
       for (int i = 0; i < 9; ++i) direct += best.intensity[c] * y[i] * px.transfer[i];
       double i = 0, u = 0;
-      for (int k = grey ? 0 : c; k <= (grey ? 2 : c); ++k) {
+      for (int k = joint ? 0 : c; k <= (joint ? 2 : c); ++k) {
         i += px.image[k] - px.albedo[k] * direct;
         u += px.albedo[k] * std::sqrt(4.0 * kPi) * px.transfer[0];
       }
@@ -260,7 +262,10 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
       face_pixels += 1;
       for (int c = 0; c < 3; ++c) mean_albedo[c] += in.albedo[c * plane + p];
     }
-  if (face_pixels < kMinLightSolvePixels) return out;
+  if (face_pixels < kMinLightSolvePixels) {
+    if (face_pixels > 0) out.warning = "too few face pixels to solve the light; the network's light is kept";
+    return out;
+  }
   for (double& a : mean_albedo) a /= face_pixels;
   {
     // The blur of the skin: a second pass leaves out the pixels far darker than the first blur
@@ -283,6 +288,7 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
   bool grey = true;
   for (size_t p = 0; p < plane; ++p) {
     if (face[p] <= 0) continue;
+    if ((p / size) % kPixelStride != 0 || (p % size) % kPixelStride != 0) continue;
     Pixel px;
     double top = 0, lum = 0;
     for (int c = 0; c < 3; ++c) {
@@ -307,13 +313,18 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
     grey = grey && px.image[1] == px.image[0] && px.image[2] == px.image[0];
     pixels.push_back(px);
   }
-  if (pixels.size() < kMinLightSolvePixels) return out;
+  if (pixels.size() < kMinLightSolvePixels / (kPixelStride * kPixelStride)) {
+    out.warning = "too few face pixels lit and unsaturated to solve the light; the network's light is kept";
+    return out;
+  }
   if (grey)  // one albedo for the three equal channels: the mean of the network's colours
     for (Pixel& px : pixels) {
       const double a = (px.albedo[0] + px.albedo[1] + px.albedo[2]) / 3.0;
       px.albedo[0] = px.albedo[1] = px.albedo[2] = a;
     }
-  const int channels = grey ? 1 : 3;
+  // One white light is fitted to the three colours together (its colour comes last): a light whose
+  // ambient and distant parts differ in colour from one colour to the next tints the shadows.
+  const int channels = 1;
   std::vector<double> weight(pixels.size(), 1.0);
   const double no_ceiling[3] = {INFINITY, INFINITY, INFINITY};
   Candidate best{};
@@ -323,10 +334,9 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
   double sigma = 0;
   for (int round = 0; round < kRounds; ++round) {
     Moments m[3];
-    for (int c = 0; c < channels; ++c) m[c] = moments(pixels, weight, c, grey);
+    for (int c = 0; c < channels; ++c) m[c] = moments(pixels, weight, c, true);
     best = search(m, no_ceiling, channels);
-    if (grey)
-      for (int c = 1; c < 3; ++c) best.ambient[c] = best.ambient[0], best.intensity[c] = best.intensity[0];
+    for (int c = 1; c < 3; ++c) best.ambient[c] = best.ambient[0], best.intensity[c] = best.intensity[0];
     // Residuals under the light found, and Cauchy weights for the next round.
     DistantLight trial;
     trial.direction = best.direction;
@@ -354,14 +364,34 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
     // face's darkest pixels allow: on a face the ambient and a light near the camera shade alike,
     // and the free fit takes too much ambient (docs/photos.md, "The light from the shading").
     double ceiling[3] = {INFINITY, INFINITY, INFINITY};
-    ambient_ceiling(pixels, grey, channels, best, kAmbientQuantile, ceiling);
+    ambient_ceiling(pixels, true, channels, best, kAmbientQuantile, ceiling);
     Moments m[3];
-    for (int c = 0; c < channels; ++c) m[c] = moments(pixels, weight, c, grey);
+    for (int c = 0; c < channels; ++c) m[c] = moments(pixels, weight, c, true);
     const Candidate bounded = evaluate(m, ceiling, channels, best.direction);
     // A ceiling that leaves no directional light at the direction found keeps the free fit.
     if (bounded.intensity[0] + bounded.intensity[1] + bounded.intensity[2] > 0) best = bounded;
-    if (grey)
-      for (int c = 1; c < 3; ++c) best.ambient[c] = best.ambient[0], best.intensity[c] = best.intensity[0];
+    for (int c = 1; c < 3; ++c) best.ambient[c] = best.ambient[0], best.intensity[c] = best.intensity[0];
+  }
+  if (!grey) {
+    // The light's colour: per colour the least-squares gain of the white light's rendering over
+    // the weighted pixels (a grey crop says nothing of it and keeps the white light).
+    DistantLight white;
+    white.direction = best.direction;
+    for (int c = 0; c < 3; ++c) white.ambient[c] = best.ambient[c], white.intensity[c] = best.intensity[c];
+    const sh::RgbLight l = sh_light(white);
+    for (int c = 0; c < 3; ++c) {
+      double cross = 0, square = 0;
+      for (size_t k = 0; k < pixels.size(); ++k) {
+        double shade = 0;
+        for (int i = 0; i < 9; ++i) shade += l[c * 9 + i] * pixels[k].transfer[i];
+        const double r = pixels[k].albedo[c] * shade;
+        cross += weight[k] * r * pixels[k].image[c];
+        square += weight[k] * r * r;
+      }
+      const double gain = square > 0 ? std::clamp(cross / square, 0.1, 10.0) : 1.0;
+      best.ambient[c] *= gain;
+      best.intensity[c] *= gain;
+    }
   }
   out.direction = best.direction;
   for (int c = 0; c < 3; ++c) {

@@ -32,7 +32,8 @@ struct DistantLight {
   std::string warning;                     // empty, or why the light should not be trusted
 };
 
-// Fewer usable face pixels than this leave the light unsolved.
+// Fewer face pixels than this, or fewer than a quarter of it usable (lit, unsaturated; every
+// second pixel of every second row is fitted), leave the light unsolved, with a warning.
 constexpr size_t kMinLightSolvePixels = 200;
 
 // The 27 SH radiance coefficients (channel-major, the renderer's convention) of `light`: per colour
@@ -50,15 +51,19 @@ sh::RgbLight sh_light(const DistantLight& light);
 //     (then 1,000 within 6 degrees of the best), ambient and intensity >= 0 by linear least
 //     squares through 9 x 9 moments of the pixels: a direction costs 81 multiply-adds, not a pass
 //     over the pixels;
+//   - every second pixel of every second row (a quarter of the face is plenty for 5 numbers);
 //   - robust: saturated pixels (a channel above 0.95) and black ones are left out, then four rounds
 //     of Cauchy weights on the residuals (specular highlights, hair, glasses, cast shadows the
 //     visibility misses), the direction searched again each round;
 //   - then, at the direction found, ambient and intensity again with the ambient no brighter than
-//     what the distant light leaves of the darkest 5 % of the face's pixels: on a face's normals
+//     what the distant light leaves of the darkest 15 % of the face's pixels: on a face's normals
 //     an ambient and a light near the camera shade nearly alike, and the free fit takes too much
 //     ambient (docs/photos.md, "The light from the shading");
-//   - a grey crop (its three channels equal at every fitted pixel) gets one ambient and intensity
-//     for all colours: a grey photo says nothing of the light's colour.
+//   - one white light is fitted to the three colours together, then each colour of it scaled by
+//     its least-squares gain over the weighted pixels (a light whose ambient and distant parts
+//     differ in colour from one colour to the next tints the shadows); a grey crop (its three
+//     channels equal at every fitted pixel) keeps the white light: a grey photo says nothing of
+//     the light's colour.
 // A light behind the plane facing the camera (over 90 degrees from its axis), a face mostly in
 // shadow (its median brightness under 8 % of its 99th percentile), or a fit that leaves more than
 // half the mean brightness unexplained is returned with a warning (the light is still finite).

@@ -228,12 +228,17 @@ LandmarkNormals LandmarkNormalsFit::solve(double lambda, float blend) const {
   return head;
 }
 
+namespace {
+constexpr float kMaxHeadWeight = 1e4f;
+}  // namespace
+
 std::shared_ptr<const LandmarkNormals> read_landmark_normals(const SafeTensors& file, const std::string& path) {
   const auto it = file.metadata().find("landmark_normals");
-  const bool tensor = file.contains(kLandmarkNormalsTensor);
-  if (it == file.metadata().end() && !tensor) return nullptr;
-  check(it != file.metadata().end() && tensor, "weights file '", path, "' holds half of a landmark normal head ",
-        "(the tensor '", kLandmarkNormalsTensor, "' and the metadata 'landmark_normals' go together): a damaged file");
+  const bool tensor = file.contains(kLandmarkNormalsTensor), mean = file.contains(kLandmarkNormalsMean);
+  if (it == file.metadata().end() && !tensor && !mean) return nullptr;
+  check(it != file.metadata().end() && tensor && mean, "weights file '", path, "' holds part of a landmark normal head ",
+        "(the tensors '", kLandmarkNormalsTensor, "' and '", kLandmarkNormalsMean,
+        "' and the metadata 'landmark_normals' go together): a damaged file");
   auto head = std::make_shared<LandmarkNormals>();
   std::istringstream in(it->second);
   std::string key;
@@ -259,11 +264,25 @@ std::shared_ptr<const LandmarkNormals> read_landmark_normals(const SafeTensors& 
             file.entry(kLandmarkNormalsMean).shape == std::vector<int64_t>{LandmarkNormals::kLandmarks, 2},
         "weights file '", path, "': its landmark normal head lacks the F32 [68, 2] tensor '", kLandmarkNormalsMean, "'");
   head->mean_landmarks = file.floats(kLandmarkNormalsMean);
-  for (float v : head->mean_landmarks)
-    check(std::isfinite(v), "weights file '", path, "': tensor '", kLandmarkNormalsMean, "' holds a non-finite value");
+  // Plausible values, not only finite ones: the mean face lies in the crop and is spread over it
+  // (at least an eighth of the crop each way); the ridge weights stay far below kMaxHeadWeight
+  // (the shipped head's largest is 49).
+  float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (size_t k = 0; k < head->mean_landmarks.size(); ++k) {
+    const float v = head->mean_landmarks[k];
+    check(std::isfinite(v) && v >= -head->crop_size && v <= 2.0f * head->crop_size, "weights file '", path,
+          "': tensor '", kLandmarkNormalsMean, "' holds ", v, ", not a landmark of a ", head->crop_size,
+          "-pixel crop (a damaged file)");
+    lo[k % 2] = std::min(lo[k % 2], v);
+    hi[k % 2] = std::max(hi[k % 2], v);
+  }
+  check(hi[0] - lo[0] >= head->crop_size / 8.0f && hi[1] - lo[1] >= head->crop_size / 8.0f, "weights file '", path,
+        "': tensor '", kLandmarkNormalsMean, "' spans ", hi[0] - lo[0], " x ", hi[1] - lo[1],
+        " pixels, not a face in a ", head->crop_size, "-pixel crop (a damaged file)");
   for (size_t k = 0; k < head->weights.size(); ++k)
-    check(std::isfinite(head->weights[k]), "weights file '", path, "': tensor '", kLandmarkNormalsTensor,
-          "' holds a non-finite value at element ", k, " (a damaged file)");
+    check(std::isfinite(head->weights[k]) && std::abs(head->weights[k]) <= kMaxHeadWeight, "weights file '", path,
+          "': tensor '", kLandmarkNormalsTensor, "' holds ", head->weights[k], " at element ", k,
+          ", not a finite weight within +-", kMaxHeadWeight, " (a damaged file)");
   return head;
 }
 

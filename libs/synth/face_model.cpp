@@ -2,9 +2,11 @@
 #include "libs/synth/face_model.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -52,8 +54,26 @@ std::vector<int32_t> read_landmark_vertices(const fs::path& json_path) {
   std::vector<int32_t> values;
   std::stringstream list(text.substr(open + 1, close - open - 1));
   std::string item;
-  while (std::getline(list, item, ',')) values.push_back(static_cast<int32_t>(std::stol(item)));
+  while (std::getline(list, item, ',')) {
+    const size_t first = item.find_first_not_of(" \t\r\n"), last = item.find_last_not_of(" \t\r\n");
+    const std::string number = first == std::string::npos ? std::string() : item.substr(first, last - first + 1);
+    errno = 0;
+    char* end = nullptr;
+    const long value = std::strtol(number.c_str(), &end, 10);
+    check(!number.empty() && *end == '\0' && errno == 0 && value >= 0 && value < (1L << 30), "face model file '",
+          json_path.string(), "': item ", values.size(), " of idx_to_landmark_verts ('", number.substr(0, 40),
+          "') is not a vertex index; use the ICT Face Model's own vertex_indices.json");
+    values.push_back(static_cast<int32_t>(value));
+  }
   return values;
+}
+
+// Every vertex of a face model mesh finite (a NaN would reach the fit and the renders unseen).
+void check_finite_positions(const ObjMesh& mesh, const fs::path& path) {
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      check(std::isfinite(mesh.positions[v][k]), "face model mesh '", path.string(), "': vertex ", v + 1,
+            " (its 'v' line, counted from 1) is not finite; use the ICT Face Model's own files");
 }
 
 // Offsets (file - neutral) of the kept vertices, from a shape file with the neutral's topology.
@@ -63,6 +83,7 @@ std::vector<Vec3f> read_shape_mode(const fs::path& path, const ObjMesh& neutral,
   check(shape.positions.size() == neutral.positions.size(), "face model shape file '",
         path.string(), "' has ", shape.positions.size(), " vertices but the neutral mesh has ",
         neutral.positions.size(), "; every shape must come from the same ICT Face Model");
+  check_finite_positions(shape, path);
   std::vector<Vec3f> mode(kept_vertices.size());
   for (size_t k = 0; k < kept_vertices.size(); ++k) {
     const auto& s = shape.positions[kept_vertices[k]];
@@ -110,6 +131,7 @@ FaceModel FaceModel::load(const std::string& directory) {
   check(fs::is_regular_file(neutral_path), "face model folder '", directory, "' has no ",
         kNeutralFile, ": ", kIctFaceKitHint);
   const ObjMesh neutral = read_obj(neutral_path.string());
+  check_finite_positions(neutral, neutral_path);
   check(!neutral.triangles.empty(), "face model mesh '", neutral_path.string(),
         "' has no faces: use the full generic_neutral_mesh.obj of the ICT Face Model (",
         kIctFaceKitHint, ")");
@@ -181,6 +203,9 @@ FaceModel FaceModel::load(const std::string& directory) {
     model.expression_names_.push_back(name);
     model.expression_modes_.push_back(read_shape_mode(path, neutral, kept_vertices));
   }
+  check(!identity_files.empty() && !expression_files.empty(), "face model folder '", directory, "' has ",
+        identity_files.size(), " identity shape files (identityNNN.obj) and ", expression_files.size(),
+        " expression shape files; the fit and synth need both: ", kIctFaceKitHint);
 
   for (int32_t v : read_landmark_vertices(dir / "vertex_indices.json")) {
     const bool valid = v >= 0 && v < static_cast<int32_t>(new_index.size());

@@ -417,6 +417,11 @@ TEST(RoundTwoText, ControlBytesArePrintedNotSent) {
   EXPECT_EQ(printable_text("a\x1b]0;title\x07 b\x1b[2J\r\x7f\nc\td"),
             "a\\x1b]0;title\\x07 b\\x1b[2J\\x0d\\x7f\nc\td");
   EXPECT_EQ(printable_text("plain text: ok"), "plain text: ok");
+  // Valid UTF-8 passes; bytes outside it (a binary file quoted) are escaped, so the message is
+  // valid UTF-8 (Python raises it with its text, not an empty one).
+  EXPECT_EQ(printable_text("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x99\x82"), "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x99\x82");
+  EXPECT_EQ(printable_text("a\xff\xfe b\xc3 c\xe2\x82 d\xc0\xaf e\xed\xa0\x80"),
+            "a\\xff\\xfe b\\xc3 c\\xe2\\x82 d\\xc0\\xaf e\\xed\\xa0\\x80");
 }
 
 }  // namespace

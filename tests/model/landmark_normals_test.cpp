@@ -270,7 +270,32 @@ TEST(LandmarkNormals, WeightsFileRoundTripAndDamage) {
   }
   EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
               w.add(kLandmarkNormalsTensor, {LandmarkNormals::kFeatures, kCells * 4}, head.weights);
-            }).find("half of a landmark normal head"),
+            }).find("part of a landmark normal head"),
+            std::string::npos);
+  // A lone mean-landmarks tensor is a damaged head too, not silently ignored.
+  EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
+              w.add(kLandmarkNormalsMean, {LandmarkNormals::kLandmarks, 2}, head.mean_landmarks);
+            }).find("part of a landmark normal head"),
+            std::string::npos);
+  // Implausible values: a mean face collapsed to one point, or far outside the crop, and weights
+  // far beyond any ridge solution's.
+  EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
+              LandmarkNormals bad = head;
+              std::fill(bad.mean_landmarks.begin(), bad.mean_landmarks.end(), 6.0f);
+              add_landmark_normals(w, bad);
+            }).find("not a face in a 12-pixel crop"),
+            std::string::npos);
+  EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
+              LandmarkNormals bad = head;
+              for (float& v : bad.mean_landmarks) v *= 1e30f;
+              add_landmark_normals(w, bad);
+            }).find("not a landmark of a 12-pixel crop"),
+            std::string::npos);
+  EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
+              LandmarkNormals bad = head;
+              bad.weights[5] = 3e38f;
+              add_landmark_normals(w, bad);
+            }).find("at element 5, not a finite weight"),
             std::string::npos);
   EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
               add_landmark_normals(w, head);
@@ -286,7 +311,7 @@ TEST(LandmarkNormals, WeightsFileRoundTripAndDamage) {
               LandmarkNormals bad = head;
               bad.weights[17] = std::nanf("");
               add_landmark_normals(w, bad);
-            }).find("non-finite value at element 17"),
+            }).find("at element 17, not a finite weight"),
             std::string::npos);
   EXPECT_NE(error_of([&](SafeTensorsWriter& w) {
               w.set_metadata("landmark_normals", "crop 12 grid 4 blend 1 lambda 0");

@@ -271,6 +271,19 @@ def test_bad_arrays_raise_clear_exceptions(model):
             facetool.light_from_sfsnet([bad] + [0.0] * 26)
     with pytest.raises(ValueError, match="within"):
         facetool.light_to_dpr(np.full((3, 9), 1e38))
+    # Paths: a NUL byte would cut the path short; an empty weights path is not the shipped model.
+    with pytest.raises(ValueError, match="NUL"):
+        model.decompose_file(PHOTO + "\x00junk")
+    with pytest.raises(ValueError, match="empty path"):
+        facetool.load_model("")
+    # A binary file read as a light: the message names it, printable (not an empty message).
+    with tempfile.TemporaryDirectory() as folder:
+        junk = os.path.join(folder, "junk.txt")
+        with open(junk, "wb") as f:
+            f.write(bytes(range(256)) * 2)
+        with pytest.raises(facetool.Error, match="junk.txt") as caught:
+            facetool.read_light(junk)
+        assert "\\x" in str(caught.value)
 
 
 @needs_photo_model

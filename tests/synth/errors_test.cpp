@@ -46,6 +46,18 @@ TEST(SynthErrors, BrokenFaceModelFilesAreNamed) {
   testing::write_text(dir.file("jawOpen.obj"), "v 0 0 0\nf 1 2 3\n");
   expect_error([&] { FaceModel::load(dir.path()); }, {"jawOpen.obj", "vertex index 2"});
   fs::remove(dir.file("jawOpen.obj"));
+  // Without an expression (or identity) shape the fit cannot run: named, not a Ceres abort.
+  expect_error([&] { FaceModel::load(dir.path()); }, {"0 expression shape files", "identityNNN.obj"});
+  testing::write_text(dir.file("jawOpen.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n");
+  // A NaN vertex in the neutral mesh or a shape, and a landmark list that is not numbers.
+  testing::write_text(dir.file("smile.obj"), "v 0 0 0\nv 1 nan 0\nv 1 1 0\nv 0 1 0\n");
+  expect_error([&] { FaceModel::load(dir.path()); }, {"smile.obj", "vertex 2", "not finite"});
+  fs::remove(dir.file("smile.obj"));
+  testing::write_text(dir.file("vertex_indices.json"), "{\"idx_to_landmark_verts\": [1, 2, x3]}");
+  expect_error([&] { FaceModel::load(dir.path()); }, {"vertex_indices.json", "item 2", "x3"});
+  testing::write_text(dir.file("vertex_indices.json"), "{\"idx_to_landmark_verts\": [1, 99999999999999]}");
+  expect_error([&] { FaceModel::load(dir.path()); }, {"vertex_indices.json", "item 1"});
+  fs::remove(dir.file("vertex_indices.json"));
   // A shape stored the upstream way (full OBJ with texture coordinates and faces) loads the
   // same as a vertex-only one.
   testing::write_text(dir.file("identity001.obj"),
@@ -56,6 +68,7 @@ TEST(SynthErrors, BrokenFaceModelFilesAreNamed) {
   EXPECT_EQ(model.neutral().triangles.size(), 2u);
   ShapeWeights weights;
   weights.identity = {0.0f, 0.5f};
+  weights.expression = {0.0f};
   const FaceMesh moved = model.build(weights);
   for (const Vec3f& p : moved.positions) EXPECT_FLOAT_EQ(p.z, 0.5f);
 }
