@@ -161,6 +161,7 @@ int main(int argc, char** argv) {
   // instead of killing the process with its temporaries left; interrupted runs remove theirs.
   std::signal(SIGXFSZ, SIG_IGN);
   facetool::remove_temporaries_on_fatal_signals();
+  facetool::enable_input_protection();  // no result replaces a photo, image or light this run read
   facetool::keep_freed_memory_for_reuse();
   std::string command_name;
   try {

@@ -13,7 +13,9 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <system_error>
 #include <vector>
 
@@ -98,8 +100,34 @@ std::string temporary_path_for(const std::string& path) {
 }
 
 namespace {
-// Renames a finished temporary over `path`; on failure removes it and throws.
+
+// The files this process has read as inputs (device, inode): protect_input_file.
+std::mutex g_inputs_mutex;
+std::set<std::pair<dev_t, ino_t>> g_inputs;
+std::atomic<bool> g_protect_inputs{false};
+
+bool is_protected_input(dev_t device, ino_t inode) {
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  return g_inputs.count({device, inode}) > 0;
+}
+
+// Renames a finished temporary over `path`, unless `path` is something no result may replace (a
+// device, a pipe, a folder, an input of this run); on failure removes it and throws.
 void rename_temporary(const std::string& temporary, const std::string& path) {
+  struct stat existing;
+  if (::stat(path.c_str(), &existing) == 0) {
+    const char* refusal = nullptr;
+    if (!S_ISREG(existing.st_mode))
+      refusal = "is not a regular file (a device, a pipe, a socket or a folder): facetool writes its results only "
+                "as new files or over regular files; choose another output name";
+    else if (is_protected_input(existing.st_dev, existing.st_ino))
+      refusal = "is an input of this run: writing the result there would replace it; choose another output "
+                "folder or name";
+    if (refusal) {
+      std::remove(temporary.c_str());
+      fail("refusing to write '", path, "': it ", refusal);
+    }
+  }
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
@@ -121,6 +149,16 @@ void sync_folder(const std::string& folder) {
   }
 }
 }  // namespace
+
+void enable_input_protection() { g_protect_inputs = true; }
+
+void protect_input_file(const std::string& path) {
+  if (!g_protect_inputs) return;
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  g_inputs.insert({st.st_dev, st.st_ino});
+}
 
 void commit_temporary(const std::string& temporary, const std::string& path) {
   StageTimer timer("fsync");  // the rename and the folder's fsync that makes it durable

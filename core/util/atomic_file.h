@@ -8,6 +8,18 @@
 
 namespace facetool {
 
+// After enable_input_protection() (the facetool program calls it first thing), marks the regular
+// file `path` (by device and inode, so any spelling or link of it) as an input of this process: no
+// atomic write below may then replace it: the rename is refused with a message naming the file,
+// the temporary removed, the input untouched. The photo, image, environment-map and light readers
+// call it (not the sample EXR reader: synth regenerates damaged samples it has read). Nothing is
+// unmarked: a command never means to replace a photo or light it read. Without the call (a
+// program using the library that rewrites a file it read), nothing is marked. Independently, an
+// atomic write never replaces an existing path that is not a regular file (a device, a pipe, a
+// socket, a folder).
+void enable_input_protection();
+void protect_input_file(const std::string& path);
+
 // A fresh temporary path beside `path`: "<path>.tmp-<pid>-<counter>" (unique per call).
 std::string temporary_path_for(const std::string& path);
 // Renames `temporary` over `path` (atomic on one file system); on failure removes the temporary

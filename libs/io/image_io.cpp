@@ -160,12 +160,14 @@ RgbImage read_rgb(ImageFileReader& reader, const std::string& path, bool decode_
 
 RgbImage read_rgb_image(const std::string& path, bool decode_srgb) {
   const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, "image");
+  protect_input_file(path);
   std::unique_ptr<ImageFileReader> reader = open_image_for_reading(path, file_bytes, "image");
   return read_rgb(*reader, path, decode_srgb);
 }
 
 RgbImage read_rgb_image_as_encoded(const std::string& path, int& orientation, const char* kind) {
   const uint64_t file_bytes = check_regular_input_file(path, kMaxImageFileBytes, kind);
+  protect_input_file(path);
   std::unique_ptr<ImageFileReader> reader = open_image_for_reading(path, file_bytes, kind);
   orientation = reader->header().orientation;
   return read_rgb(*reader, path, !reader->header().floating);

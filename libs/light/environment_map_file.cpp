@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "core/util/image_limits.h"
@@ -13,6 +14,7 @@ namespace facetool::sh {
 
 EnvironmentMap read_environment_map(const std::string& path) {
   check_regular_input_file(path, kMaxImageFileBytes, "environment map");
+  protect_input_file(path);
   std::unique_ptr<ImageFileReader> input;
   try {
     input = open_image_file(path, "environment map");

@@ -31,7 +31,9 @@ sh::Mat3 dpr_rotation() { return {{{1, 0, 0}, {0, 0, 1}, {0, -1, 0}}}; }
 
 // The whole file as text (a regular file of a sane size; else a facetool::Error naming it).
 std::string read_text(const std::string& path) {
-  return read_regular_input_file(path, kMaxTextFileBytes, "light file");
+  std::string text = read_regular_input_file(path, kMaxTextFileBytes, "light file");
+  protect_input_file(path);
+  return text;
 }
 
 // The numbers of a light text, one vector per non-empty line.

@@ -61,6 +61,7 @@ EOF
     "$FACETOOL" infer --aligned --init random --input-size 32 --width 8 "$FX/picture.png" \
       -o "$FX/infer" --raw-output "$FX/raw.safetensors" > /dev/null 2>&1 || return 1
   cp "$FX/infer/picture/input.png" "$FX/face.png"
+  cp "$FX/face.png" "$FX/face_copy.png"
   cp "$FX/infer/picture/albedo.exr" "$FX/albedo.exr"
   cp "$FX/infer/picture/normal.exr" "$FX/normal.exr"
   cp "$FX/infer/picture/visibility.exr" "$FX/visibility.exr"
@@ -591,6 +592,9 @@ render/light-truncated-json|truncated.json|render --albedo {FX}/albedo.exr --nor
 render/light-nan-sfsnet|nan_sfsnet.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/nan_sfsnet.txt -o {OUT}/out.png
 render/light-short-dpr|short_dpr.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/short_dpr.txt -o {OUT}/out.png
 render/light-huge-dpr|huge_dpr.txt|render --albedo {FX}/albedo.exr --normal {FX}/normal.exr --light {FX}/huge_dpr.txt -o {OUT}/out.png
+detect/report-is-the-photo|face_copy.png|detect {FX}/face_copy.png --report {FX}/face_copy.png
+detect/report-is-a-fifo|not a regular file|detect {FX}/face_copy.png --report {FX}/pipe.png
+light/from-envmap-onto-its-input|input of this run|light from-envmap {FX}/face_copy.png -o {FX}/face_copy.png
 light/from-direction-one-angle|azimuth,elevation|light from-direction 30 -o {OUT}/light.json
 light/from-direction-nan|azimuth,elevation|light from-direction nan,0 -o {OUT}/light.json
 light/from-direction-elevation-over-90|azimuth,elevation|light from-direction 0,120 -o {OUT}/light.json

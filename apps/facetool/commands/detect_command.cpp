@@ -15,6 +15,7 @@
 #include "libs/face/face_detector.h"
 #include "libs/face/photo_reader.h"
 #include "core/util/atomic_file.h"
+#include "core/util/file_checks.h"
 #include "core/util/error.h"
 #include "core/util/progress_bar.h"
 
@@ -55,7 +56,10 @@ int run_detect(CommandContext&, const std::vector<std::string>& args) {
   const std::vector<std::string> photos =
       expand_photo_inputs(values["inputs"].as<std::vector<std::string>>());
   const PhotoInferOptions photo = photo_options_from(values);
-  if (values.count("report")) check_output_file_location(values["report"].as<std::string>(), "--report");
+  if (values.count("report")) {
+    check_output_file_location(values["report"].as<std::string>(), "--report");
+    check_output_is_not_an_input(values["report"].as<std::string>(), "--report", photos);
+  }
 
   FaceDetector detector(photo.landmark_model, photo.cnn_model);
   detector.prepare(photo.detection.detector);

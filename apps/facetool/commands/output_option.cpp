@@ -30,6 +30,10 @@ void check_output_file_location(const std::string& file, const std::string& opti
   check(!file.empty(), option, ": the file name is empty");
   check(!fs::is_directory(file, ec), option, " '", file,
         "' is a folder; give a file name inside it");
+  const fs::file_status status = fs::status(file, ec);
+  check(!fs::exists(status) || fs::is_regular_file(status), option, " '", file,
+        "' is not a regular file (a device, a pipe or a socket): facetool writes its results only as new files or "
+        "over regular files; give another name");
   const fs::path folder = fs::path(file).parent_path().empty() ? fs::path(".")
                                                                : fs::path(file).parent_path();
   check(fs::is_directory(folder, ec), option, " '", file, "': the folder '", folder.string(),

@@ -18,7 +18,8 @@ void check_output_option(const boost::program_options::variables_map& values,
                          const std::string& command, const std::string& what);
 
 // Before any work: throws facetool::Error naming `option` when the folder `file` would be
-// written into does not exist or is not a folder, or when `file` itself is a folder.
+// written into does not exist or is not a folder, or when `file` itself is a folder or another
+// file that is not regular (a device, a pipe, a socket).
 void check_output_file_location(const std::string& file, const std::string& option);
 
 }  // namespace facetool
