@@ -393,8 +393,19 @@ PYBIND11_MODULE(_facetool, m) {
                            const std::string& face_region, double feather, int batch) {
              RgbImage photo = image_from_array(image, "image");
              const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+             // A float image far above 1 is most likely 8-bit values given as floats: say so if no
+             // face is found in it (it is taken as linear light in 0..1).
+             float brightest = 0.0f;
+             if (py::reinterpret_borrow<py::array>(image).dtype().kind() == 'f')
+               for (const float v : photo.pixels) brightest = std::max(brightest, v);
              py::gil_scoped_release release;
-             return model.decompose(std::move(photo), "", options);
+             try {
+               return model.decompose(std::move(photo), "", options);
+             } catch (const Error& e) {
+               if (brightest <= 2.0f || std::string(e.what()).find("no face") == std::string::npos) throw;
+               throw Error(std::string(e.what()) + ". Float images are taken as linear RGB in 0..1 and this one reaches " +
+                           std::to_string(brightest) + ": divide 8-bit values by 255 (and decode sRGB), or pass a uint8 array");
+             }
            },
            py::arg("image"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
            py::arg("min_score") = 0.25, py::arg("face_region") = "auto", py::arg("feather") = 3.0, py::arg("batch") = 8,

@@ -290,6 +290,9 @@ def test_bad_arrays_raise_clear_exceptions(model):
 def test_no_face_and_bad_relight_inputs(model, photo):
     with pytest.raises(facetool.Error, match="no face found"):
         model.decompose(np.full((200, 300, 3), 0.5, dtype=np.float32))
+    # The photo's 8-bit values given as floats: the message says how floats are read.
+    with pytest.raises(facetool.Error, match="linear RGB in 0..1"):
+        model.decompose(np.clip(facetool.read_image(PHOTO), 0, 1) ** (1 / 2.2) * 255)
     with pytest.raises(facetool.Error, match="does-not-exist.png"):
         model.decompose_file("does-not-exist.png")
     with pytest.raises(ValueError, match="mode"):

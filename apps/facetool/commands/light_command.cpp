@@ -111,19 +111,21 @@ int run_from_direction(const std::vector<std::string>& args) {
   double ambient = 0.1, intensity = 1.0;
   add_output_option(options, hidden, &output, "FILE.json", "facetool light file to write");
   options.add_options()
-      ("ambient", po::value(&ambient)->default_value(0.1), "the uniform light beside the distant one")
-      ("intensity", po::value(&intensity)->default_value(1.0),
+      ("direction", po::value(&angles_text)->value_name("AZ,EL")->required(),
+       "azimuth,elevation in degrees (or give them first, without the option); write --direction=-40,20 for a "
+       "negative azimuth")
+      ("ambient", po::value(&ambient)->default_value(0.1, "0.1"), "the uniform light beside the distant one")
+      ("intensity", po::value(&intensity)->default_value(1.0, "1"),
        "the distant light's strength: a surface facing it is shaded this much above the ambient (albedo 1)");
-  hidden.add_options()("angles", po::value(&angles_text)->required(), "azimuth,elevation in degrees");
   po::positional_options_description positional;
-  positional.add("angles", 1);
+  positional.add("direction", 1);
   po::variables_map values;
   if (!parse_command_options(
           "light from-direction AZ,EL -o FILE.json [--ambient A] [--intensity I]",
           "Writes a white distant light from azimuth AZ and elevation EL (degrees, the photo's frame:\n"
           "0,0 is the camera's position, a positive azimuth moves the light to the viewer's right, a\n"
-          "positive elevation up; for a negative azimuth end the options with --: -o L.json -- -40,20)\n"
-          "plus a uniform ambient, as 27 SH coefficients: with albedo 1 and no occlusion a surface of normal n is shaded\n"
+          "positive elevation up; for a negative azimuth write --direction=-40,20) plus a uniform ambient,\n"
+          "as 27 SH coefficients: with albedo 1 and no occlusion a surface of normal n is shaded\n"
           "A + I max(0, n.l). `relight --light-direction AZ,EL --ambient A --intensity I` uses the same light.",
           options, positional, args, values, hidden))
     return 0;

@@ -77,7 +77,7 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
        "the camera's position, a positive azimuth moves the light to the viewer's right, a positive elevation up; "
        "it shades a surface facing it --intensity above --ambient, as `light from-direction` (write "
        "--light-direction=-40,10 for a negative azimuth)")
-      ("ambient", po::value<double>()->default_value(0.1), "the uniform light beside --light-direction, in the same units")
+      ("ambient", po::value<double>()->default_value(0.1, "0.1"), "the uniform light beside --light-direction, in the same units")
       ("rotate", po::value<std::string>()->value_name("YAW,PITCH,ROLL"),
        "turn the new light by these angles in degrees, as `light from-envmap --rotate` (write --rotate=-30,0,0 for a negative yaw)")
       ("intensity", po::value<double>()->default_value(1.0),
