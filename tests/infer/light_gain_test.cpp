@@ -122,6 +122,22 @@ LandmarkNormals left_half_head(int s) {
   return head;
 }
 
+// A paper network of width 8 at s x s with random weights, the renderer, and left_half_head(s)
+// with its mask (from its own mean landmarks).
+struct HeadedNetwork {
+  HeadedNetwork(Backend& backend, int s, uint64_t seed)
+      : plugins(FACETOOL_PAPER_NETWORK_PLUGIN, FACETOOL_SH_RENDERER_PLUGIN), head(left_half_head(s)) {
+    if (!plugins.network || !plugins.renderer) return;
+    plugins.network->build(backend, NetworkConfig{8, s});
+    plugins.network->init_random(seed);
+    std::vector<float> head_normal;
+    head.predict(head.mean_landmarks.data(), head_normal, mask);
+  }
+  testing::PaperPlugins plugins;
+  LandmarkNormals head;
+  std::vector<float> mask;
+};
+
 // The decomposer's light, shading and reconstruction with the gain are those without it times
 // the least-squares gains in the head's mask (the crop's face made a colour scale of a
 // reconstruction, so the gains are far from 1); the renderer given the gained light renders the
@@ -129,15 +145,13 @@ LandmarkNormals left_half_head(int s) {
 // (no face mask) the light stays the network's.
 TEST(LightGain, DecomposerScalesTheLightAndItsRenderByTheFittedGains) {
   Backend& backend = get_backend("cpu");
-  testing::PaperPlugins plugins(FACETOOL_PAPER_NETWORK_PLUGIN, FACETOOL_SH_RENDERER_PLUGIN);
-  ASSERT_TRUE(plugins.network && plugins.renderer);
   const int s = 16;
   const size_t plane = static_cast<size_t>(s) * s;
-  plugins.network->build(backend, NetworkConfig{8, s});
-  plugins.network->init_random(3);
-  const LandmarkNormals head = left_half_head(s);
-  std::vector<float> head_normal, mask;
-  head.predict(head.mean_landmarks.data(), head_normal, mask);
+  HeadedNetwork net(backend, s, 3);
+  testing::PaperPlugins& plugins = net.plugins;
+  ASSERT_TRUE(plugins.network && plugins.renderer);
+  const LandmarkNormals& head = net.head;
+  const std::vector<float>& mask = net.mask;
   size_t inside = 0;
   for (size_t p = 0; p < plane; ++p) inside += mask[p] > 0.5f;
   ASSERT_GT(inside, kMinLightGainPixels);
@@ -199,15 +213,13 @@ TEST(LightGain, DecomposerScalesTheLightAndItsRenderByTheFittedGains) {
 // landmarks) keep the network's light.
 TEST(LightSolve, DecomposerRendersTheSolvedLightAndTheAlbedoFollows) {
   Backend& backend = get_backend("cpu");
-  testing::PaperPlugins plugins(FACETOOL_PAPER_NETWORK_PLUGIN, FACETOOL_SH_RENDERER_PLUGIN);
-  ASSERT_TRUE(plugins.network && plugins.renderer);
   const int s = 32;
   const size_t plane = static_cast<size_t>(s) * s;
-  plugins.network->build(backend, NetworkConfig{8, s});
-  plugins.network->init_random(5);
-  const LandmarkNormals head = left_half_head(s);
-  std::vector<float> head_normal, mask;
-  head.predict(head.mean_landmarks.data(), head_normal, mask);
+  HeadedNetwork net(backend, s, 5);
+  testing::PaperPlugins& plugins = net.plugins;
+  ASSERT_TRUE(plugins.network && plugins.renderer);
+  const LandmarkNormals& head = net.head;
+  const std::vector<float>& mask = net.mask;
   Decomposer decomposer(*plugins.network, *plugins.renderer);
   decomposer.set_landmark_normals(&head);
   EXPECT_TRUE(decomposer.light_solve());  // the default
