@@ -28,7 +28,8 @@ reliability mask (where the template is defined), with the constant normal and a
 mean-face template on the same pixels (for the fit also the template placed by each photo's own
 landmarks), and prints the tables (the paper's Table 1 form, plus coverage).
 `light` runs `facetool infer --no-contact-sheet` once on every strobe photo within 90 degrees of
-the camera axis (padded) and scores the light of each photo's largest face: the direction of its
+the camera axis (padded, and sRGB-encoded as a camera writes photos: Yale B's values are linear)
+and scores the light of each photo's largest face: the direction of its
 first SH band against the strobe's and |L1|/L0, by the strobe's angle from the axis (and checks
 the sign convention); each strobe photo's albedo against the frontal photo's and the PS albedo
 (the raw photos as the baseline); and the frontal photo relit to seven strobes by `facetool
