@@ -17,44 +17,22 @@ namespace facetool {
 Decomposer::Decomposer(NetworkPlugin& network, RendererPlugin& renderer)
     : network_(network), renderer_(renderer) {}
 
-void Decomposer::solve_lights(Decomposition& d, const std::vector<float>& images, int channels,
-                              const std::vector<std::vector<float>>& masks, Backend& backend,
-                              std::vector<bool>& solved) {
-  const int s = d.size;
+std::vector<DistantLight> Decomposer::solve_lights(const NetworkAnswer& answer, const std::vector<float>& images,
+                                                   int channels, const std::vector<std::vector<float>>& masks,
+                                                   int count, int s) const {
   const size_t plane = static_cast<size_t>(s) * s;
-  bool any = false;
-  for (int i = 0; i < d.count; ++i) {
+  std::vector<DistantLight> solves(count);
+  for (int i = 0; i < count; ++i) {
     ShadingInputs in;
     in.image = images.data() + static_cast<size_t>(i) * channels * plane;
-    in.albedo = d.albedo.data() + i * 3 * plane;
-    in.normal = d.normal.data() + i * 3 * plane;
-    in.visibility = d.visibility.data() + i * 9 * plane;
+    in.albedo = answer.albedo.data() + i * 3 * plane;
+    in.normal = answer.normal.data() + i * 3 * plane;
+    in.visibility = answer.visibility.data() + i * 9 * plane;
     in.mask = masks[i].data();
     in.size = s;
-    d.light_solve[i] = solve_distant_light(in);
-    if (!d.light_solve[i].solved) continue;
-    const sh::RgbLight light = sh_light(d.light_solve[i]);
-    for (int k = 0; k < 27; ++k) d.light[i * 27 + k] = static_cast<float>(light[k]);
-    solved[i] = any = true;
+    solves[i] = solve_distant_light(in);
   }
-  if (!any) return;
-  // The new lights rendered (the shading does not depend on the albedo), then the albedo from the
-  // crop and the new shading, and the reconstruction from both.
-  RenderInputs in{Tensor::from_host(backend, Shape{d.count, 3, s, s}, d.albedo),
-                  Tensor::from_host(backend, Shape{d.count, 3, s, s}, d.normal),
-                  Tensor::from_host(backend, Shape{d.count, 9, s, s}, d.visibility),
-                  Tensor::from_host(backend, Shape{d.count, 27}, d.light), Tensor()};
-  RenderOutputs out;
-  renderer_.forward(in, out);
-  const std::vector<float> shading = out.shading.to_host();
-  for (int i = 0; i < d.count; ++i) {
-    if (!solved[i]) continue;
-    const size_t at = i * 3 * plane;
-    std::copy(shading.begin() + at, shading.begin() + at + 3 * plane, d.shading.begin() + at);
-    albedo_from_shading(images.data() + static_cast<size_t>(i) * channels * plane, d.shading.data() + at,
-                        masks[i].data(), plane, d.albedo.data() + at);
-    for (size_t k = 0; k < 3 * plane; ++k) d.reconstruction[at + k] = d.albedo[at + k] * d.shading[at + k];
-  }
+  return solves;
 }
 
 Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images, int count,
@@ -97,6 +75,20 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
                                     &head_masks[i]);
     normal = Tensor::from_host(backend, Shape{count, 3, s, s}, answer.normal);
   }
+  // Each crop's light solved from its shading, in place of the network's, before the one render.
+  std::vector<DistantLight> solves(count);
+  if (light_solve_ && !head_masks.empty()) {
+    timer.emplace("light solve");
+    solves = solve_lights(answer, images, channels, head_masks, count, s);
+    bool any = false;
+    for (int i = 0; i < count; ++i) {
+      if (!solves[i].solved) continue;
+      const sh::RgbLight solved = sh_light(solves[i]);
+      for (int k = 0; k < 27; ++k) answer.light[i * 27 + k] = static_cast<float>(solved[k]);
+      any = true;
+    }
+    if (any) light = Tensor::from_host(backend, Shape{count, 27}, answer.light);
+  }
   timer.emplace("render");
   RenderInputs render_in{albedo, normal, visibility, light, Tensor()};
   RenderOutputs render_out;
@@ -111,16 +103,21 @@ Decomposition Decomposer::run(Backend& backend, const std::vector<float>& images
   d.light = std::move(answer.light);
   d.shading = render_out.shading.to_host();
   d.reconstruction = render_out.image.to_host();
-  d.light_solve.assign(count, DistantLight{});
-  std::vector<bool> solved(count, false);
-  if (light_solve_ && !head_masks.empty()) {
-    timer.emplace("light solve");
-    solve_lights(d, images, channels, head_masks, backend, solved);
+  d.light_solve = std::move(solves);
+  // A solved crop's albedo follows from the crop and its new shading, and its reconstruction
+  // from both; the others keep the network's light, scaled by the light's gain.
+  timer.emplace("light solve");
+  for (int i = 0; i < count; ++i) {
+    if (!d.light_solve[i].solved) continue;
+    const size_t at = i * 3 * plane;
+    albedo_from_shading(images.data() + static_cast<size_t>(i) * channels * plane, d.shading.data() + at,
+                        head_masks[i].data(), plane, d.albedo.data() + at);
+    for (size_t k = 0; k < 3 * plane; ++k) d.reconstruction[at + k] = d.albedo[at + k] * d.shading[at + k];
   }
   if (light_gain_ && !head_masks.empty()) {
     timer.emplace("light gain");
     for (int i = 0; i < count; ++i) {
-      if (solved[i]) continue;
+      if (d.light_solve[i].solved) continue;
       const std::array<float, 3> gain = fit_light_gain(d.reconstruction.data() + i * 3 * plane,
                                                        images.data() + static_cast<size_t>(i) * channels * plane,
                                                        head_masks[i].data(), plane);

@@ -10,6 +10,8 @@
 
 namespace facetool {
 
+struct NetworkAnswer;  // libs/inference/mirror_average.h
+
 // Host copies of one batch's results, planar per image (NCHW), S = the network's input size.
 struct Decomposition {
   int count = 0;
@@ -54,7 +56,7 @@ class Decomposer {
   void set_light_gain(bool on) { light_gain_ = on; }
   bool light_gain() const { return light_gain_; }
   // Whether each crop's light is solved from its shading (libs/light/light_from_shading.h: a
-  // distant light plus ambient per colour that makes the renderer explain the face's pixels,
+  // distant white light plus ambient, then a gain per colour, that makes the renderer explain the face's pixels,
   // robustly), replacing the network's light, and the albedo then follows from the crop and the
   // new shading (bounded where the shading is dark); on by default (docs/photos.md, "The light
   // from the shading"). Like the gain, only crops run with landmarks and a head; the gain then
@@ -64,10 +66,10 @@ class Decomposer {
   const NetworkPlugin& network() const { return network_; }
 
  private:
-  // The light solve of every crop with a mask (`masks`: the head's), in place in `d`; `solved[i]`
-  // says which crops it replaced the light of.
-  void solve_lights(Decomposition& d, const std::vector<float>& images, int channels,
-                    const std::vector<std::vector<float>>& masks, Backend& backend, std::vector<bool>& solved);
+  // Each crop's light solved from the network's answer (the landmark head's normals blended in)
+  // and its crop, in the head's mask (`masks`).
+  std::vector<DistantLight> solve_lights(const NetworkAnswer& answer, const std::vector<float>& images, int channels,
+                                         const std::vector<std::vector<float>>& masks, int count, int s) const;
 
   NetworkPlugin& network_;
   RendererPlugin& renderer_;

@@ -1,4 +1,4 @@
-// The light from a face's shading: a distant light plus ambient per colour, fitted robustly through the renderer.
+// The light from a face's shading: a distant white light plus ambient, then its colour, fitted robustly through the renderer.
 #pragma once
 
 #include <array>
@@ -41,7 +41,7 @@ constexpr size_t kMinLightSolvePixels = 200;
 // L_c0 = sqrt(4 pi) ambient_c + intensity_c Y_0(d), L_ci = intensity_c Y_i(d) for i > 0.
 sh::RgbLight sh_light(const DistantLight& light);
 
-// The distant light plus ambient per colour that makes the renderer (I_c = albedo_c / pi *
+// The distant white light plus ambient, times a gain per colour, that makes the renderer (I_c = albedo_c / pi *
 // sum_i L_ci transfer_i, core/sh/pixel_transfer.h) explain the face's pixels best:
 //   - the albedo in the fit is the network's fine detail (its albedo over its own blur of radius
 //     S / 32, dark features left out of the blur) times its mean over the face: brows, lashes and

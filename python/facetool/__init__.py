@@ -58,7 +58,7 @@ def load_model(weights=None, backend="cpu", renderer="sh_renderer", landmark_mod
     light_gain: scale each colour of the network's light to render the face best in the landmark
     normal head's face mask, as the facetool program does (False: the network's light as it is, as
     its --no-light-gain).
-    light_solve: solve each face's light from its shading (a distant light plus ambient per colour that
+    light_solve: solve each face's light from its shading (a distant light plus ambient, then its colour, that
     makes the renderer explain the face's pixels), the albedo following from the photo and that
     shading, as the facetool program does (False: the network's light, as its --no-light-solve).
     """
