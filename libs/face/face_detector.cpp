@@ -3,6 +3,8 @@
 #include "libs/face/face_detector.h"
 
 #include <algorithm>
+#include <atomic>
+#include <iostream>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -80,8 +82,49 @@ bool FaceDetector::avx2_available() { return cpu_runs_avx2_engine(); }
 
 void FaceDetector::prepare(DetectorChoice choice) { engine_->prepare(choice); }
 
+double smallest_searchable_face(int width, int height, double padding) {
+  constexpr double kWindow = 80, kMaxEnlargement = 4, kMaxSearchPixels = 32e6;
+  const double shorter = std::min(width, height);
+  const double padded = (width + 2 * padding * shorter) * (height + 2 * padding * shorter);
+  const double enlargement = std::min(kMaxEnlargement, std::sqrt(kMaxSearchPixels / std::max(padded, 1.0)));
+  // Rounded up to a size band's start (window x 2^k, detection_bands.h), which is what is searched.
+  return kWindow * std::exp2(std::ceil(std::log2(1.0 / enlargement) - 1e-9));
+}
+
+namespace {
+
+// The automatic minimum face size of detect()'s first look.
+double automatic_min_face(const RgbImage& photo) { return std::max(80.0, std::min(photo.width, photo.height) / 8.0); }
+
+// Whether detect() looks again for small faces: the automatic minimum, a small photo, and a smaller size to look at.
+bool looks_again_for_small_faces(const RgbImage& photo, const DetectionOptions& options) {
+  return options.min_face_size == 0 && std::max(photo.width, photo.height) <= kSmallFaceFallbackSide &&
+         std::max(kSmallFaceFallback, smallest_searchable_face(photo.width, photo.height, options.padding)) <
+             automatic_min_face(photo);
+}
+
+}  // namespace
+
 std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo, const DetectionOptions& options) {
-  return engine_->detect(photo, options);
+  DetectionOptions searched = options;
+  const double smallest = smallest_searchable_face(photo.width, photo.height, options.padding);
+  if (options.min_face_size > 0 && options.min_face_size < smallest) {
+    searched.min_face_size = smallest;
+    static std::atomic<bool> said{false};
+    if (!said.exchange(true))
+      std::cerr << "note: facetool searches a " << photo.width << " x " << photo.height << " photo for faces of "
+                << std::lround(smallest) << " pixels and more; --min-face-size " << options.min_face_size
+                << " is raised to that (noted once)\n";
+  }
+  std::vector<DetectedFace> faces = engine_->detect(photo, searched);
+  if (faces.empty() && looks_again_for_small_faces(photo, options)) {
+    const double detection = engine_->detection_seconds, landmarks = engine_->landmark_seconds;
+    searched.min_face_size = std::max(kSmallFaceFallback, smallest);
+    faces = engine_->detect(photo, searched);
+    engine_->detection_seconds += detection;
+    engine_->landmark_seconds += landmarks;
+  }
+  return faces;
 }
 
 Landmarks68 FaceDetector::landmarks_in_box(const RgbImage& photo, double left, double top, double right,
@@ -100,7 +143,12 @@ std::string no_face_reason(const RgbImage& photo, const DetectionOptions& option
         << ") is smaller than --min-face-size " << options.min_face_size;
     return why.str();
   }
-  const double min_size = options.min_face_size > 0 ? options.min_face_size : std::max(80.0, shorter / 8.0);
+  const double min_size =
+      options.min_face_size > 0
+          ? std::max(options.min_face_size, smallest_searchable_face(photo.width, photo.height, options.padding))
+      : looks_again_for_small_faces(photo, options)
+          ? std::max(kSmallFaceFallback, smallest_searchable_face(photo.width, photo.height, options.padding))
+          : automatic_min_face(photo);
   why << "no face found by "
       << (options.detector == DetectorChoice::automatic ? "the HOG or the CNN detector"
           : options.detector == DetectorChoice::hog     ? "the HOG detector (try --detector cnn)"

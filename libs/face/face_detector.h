@@ -64,9 +64,11 @@ struct DetectedFace {
 struct DetectionOptions {
   DetectorChoice detector = DetectorChoice::automatic;
   int max_faces = 0;            // keep the best-scoring this many (0: all)
-  // Photo pixels; 0: automatic, max(80, shorter side / 8). The search runs in size bands that
+  // Photo pixels; 0: automatic, max(80, shorter side / 8), and on a photo of up to 640 pixels a
+  // side where that finds no face, 40 (small_face_fallback). The search runs in size bands that
   // start at 80 x 2^k, the largest such size not above the minimum (detection_bands.h), and
-  // keeps faces of at least 0.8 times the minimum: a smaller minimum never finds fewer faces.
+  // keeps faces of at least 0.8 times the minimum: a smaller minimum never finds fewer faces. A
+  // minimum below smallest_searchable_face() is raised to it (said once on stderr).
   double min_face_size = 0;
   double score_threshold = 0.25;     // HOG margin below which a box is not a face
   double cnn_score_threshold = 0.0;  // CNN score below which a box is not a face
@@ -160,6 +162,18 @@ class FaceDetector {
   std::unique_ptr<FaceDetectorEngine> engine_;
   const char* code_name_ = "portable";
 };
+
+// The smallest face a search of a `width` x `height` photo looks for: the detector's 80-pixel
+// window over the photo enlarged at most 4 times, and only while the padded, enlarged photo
+// stays within 32 million pixels (a bigger photo is searched at scales below 1: its smallest
+// face grows with it, so that no minimum makes a search run for minutes), rounded up to the
+// start of a size band (80 x 2^k: 20, 40, 80, 160, ...).
+double smallest_searchable_face(int width, int height, double padding);
+
+// The automatic minimum's second look (DetectionOptions::min_face_size): faces down to this many
+// pixels (kept from 0.8 times it) on photos of at most kSmallFaceFallbackSide pixels a side.
+constexpr double kSmallFaceFallback = 40;
+constexpr int kSmallFaceFallbackSide = 640;
 
 // Why detect() found no face in `photo` (for the message and the summary): the photo is smaller
 // than the minimum face size, or no detector found one, with what to try.

@@ -55,6 +55,21 @@ TEST(DetectionBands, OctavesFromTheMinimumUpToTheShorterSide) {
   EXPECT_TRUE(size_bands(1300, 700, 80).empty());
 }
 
+TEST(DetectionBands, SmallestSearchableFaceKeepsTheSearchWithinItsBudget) {
+  // Padding 0.25: a 512 x 512 photo is searched padded to 768 x 768 (0.59 million pixels),
+  // which may be enlarged the full 4 times (9.4 < 32 million): 80 / 4 = 20.
+  EXPECT_DOUBLE_EQ(smallest_searchable_face(512, 512, 0.25), 20);
+  // 2000 x 2000 -> 3000 x 3000 = 9 million pixels: enlarged at most sqrt(32 / 9) = 1.89 times,
+  // 80 / 1.89 = 42.4, rounded up to its band's start (80 x 2^k): 80.
+  EXPECT_DOUBLE_EQ(smallest_searchable_face(2000, 2000, 0.25), 80);
+  // 1200 x 1200 -> 1800 x 1800 = 3.24 million: enlarged 3.14 times, 25.5 -> 40.
+  EXPECT_DOUBLE_EQ(smallest_searchable_face(1200, 1200, 0.25), 40);
+  // 8000 x 6000 -> 11000 x 9000 = 99 million: scale sqrt(32 / 99) = 0.57, 141 -> 160.
+  EXPECT_DOUBLE_EQ(smallest_searchable_face(8000, 6000, 0.25), 160);
+  // Unpadded 16000 x 16000 = 256 million: scale 0.354, 226 -> 320.
+  EXPECT_DOUBLE_EQ(smallest_searchable_face(16000, 16000, 0.0), 320);
+}
+
 TEST(DetectionBands, BandHoldsItsOctaveAndTheLastOneEverythingAbove) {
   const SizeBand band{100, false}, last{100, true};
   auto box = [](double size) { return ScoredBox{0, 0, size, size, 1}; };
@@ -291,6 +306,32 @@ TEST_F(HardPhotos, SmallerMinimumFaceSizeNeverFindsFewerFaces) {
     previous = std::max(previous, found);
   }
   EXPECT_GE(previous, 4u);
+}
+
+TEST_F(HardPhotos, SmallFaceInASmallPhotoIsFoundByDefault) {
+  // An aligned 89 x 109 crop (the size of celebrity crop sets) whose face box is about 50 pixels:
+  // below the automatic minimum's 64, so only the second look (kSmallFaceFallback) finds it; a
+  // minimum given as 80 does not look again.
+  const DetectedFace& face = grace_faces_[0];
+  const double size = face.right - face.left, scale = 50.0 / size;
+  const int x0 = static_cast<int>((face.left + face.right) / 2 - 44.5 / scale);
+  const int y0 = static_cast<int>((face.top + face.bottom) / 2 - 54.5 / scale);
+  RgbImage small = scaled(crop(grace_, x0, y0, static_cast<int>(89 / scale), static_cast<int>(109 / scale)), scale);
+  ASSERT_NEAR(small.width, 89, 1);
+  ASSERT_NEAR(small.height, 109, 1);
+  const std::vector<DetectedFace> found = detector_->detect(small);
+  ASSERT_EQ(found.size(), 1u);
+  std::printf("a %d x %d crop: face box %.0f pixels found by default\n", small.width, small.height, found[0].size());
+  EXPECT_LT(found[0].size(), 64);
+  // The full photo's landmarks in the small crop's frame are the reference.
+  Landmarks68 expected = face.landmarks;
+  for (Point2& p : expected) p = {(p.x - x0) * scale, (p.y - y0) * scale};
+  EXPECT_LT(inner_error(found[0].landmarks, expected), 0.12);
+  DetectionOptions eighty;
+  eighty.min_face_size = 80;
+  EXPECT_TRUE(detector_->detect(small, eighty).empty());
+  EXPECT_NE(no_face_reason(small, eighty).find("at least 64 pixels"), std::string::npos);
+  EXPECT_NE(no_face_reason(small, {}).find("at least 32 pixels"), std::string::npos);
 }
 
 TEST_F(HardPhotos, MissingOrDamagedCnnModelIsNamedAndHogStillWorks) {

@@ -12,7 +12,7 @@ void add_photo_detection_options(po::options_description& options) {
       ("detector", po::value<std::string>()->default_value("auto"), "face detector: hog, cnn, or auto (HOG, and dlib's CNN when HOG finds no face; docs/photos.md)")
       ("cnn-model", po::value<std::string>()->default_value(kDefaultCnnFaceModel), "dlib's CNN face detector model (mmod_human_face_detector.dat; scripts/install-dependencies.sh)")
       ("max-faces", po::value<int>()->default_value(0), "keep at most this many faces per photo, best detection score first (0: all)")
-      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8)); a smaller value never finds fewer faces")
+      ("min-face-size", po::value<double>()->default_value(0), "smallest face to find, photo pixels (0: max(80, shorter side / 8), and down to 40 on a photo of up to 640 pixels a side where none is found; docs/photos.md); a smaller value never finds fewer faces")
       ("min-score", po::value<double>()->default_value(0.25), "HOG detection score (margin) below which a box is not a face")
       ("min-cnn-score", po::value<double>()->default_value(0.0), "CNN detection score below which a box is not a face")
       ("pad", po::value<double>()->default_value(0.25), "before detection, pad the photo on every side by this fraction of its shorter side, in its mean colour, so faces filling the photo or cut by its edge are found")
