@@ -23,6 +23,7 @@
 #include "libs/model/default_model.h"
 #include "libs/photo/photo_pipeline.h"
 #include "libs/photo/relight_pipeline.h"
+#include "libs/photo/session.h"
 #include "core/util/error.h"
 #include "core/util/image_limits.h"
 
@@ -187,52 +188,43 @@ PhotoInferOptions photo_options(int max_faces, double min_face_size, double min_
   return o;
 }
 
-// A loaded model: the network and renderer plugins on one backend, and the face detector.
+// A loaded model: a Session (libs/photo/session.h) behind a lock, with the landmark model chosen
+// at load time.
 class Model {
  public:
   Model(const std::string& weights, const std::string& backend, const std::string& renderer,
         const std::string& landmark_model, bool mirror_average, bool landmark_normals, bool light_gain,
         bool light_solve)
       : landmark_model_(landmark_model.empty() ? kDefaultLandmarkModel : landmark_model) {
-    backend_ = &get_backend(backend);
-    plugins_.set_search_dirs(library_plugin_dirs());
-    plugins_.discover();
-    model_ = load_decomposition_model(plugins_, *backend_, weights, renderer);
-    decomposer_ = std::make_unique<Decomposer>(*model_.network, *model_.renderer);
-    decomposer_->set_landmark_normals(landmark_normals ? model_.landmark_normals.get() : nullptr);
-    decomposer_->set_mirror_average(mirror_average);
-    decomposer_->set_light_gain(light_gain);
-    decomposer_->set_light_solve(light_solve);
+    SessionOptions options;
+    options.weights = weights;
+    options.backend = backend;
+    options.renderer = renderer;
+    options.mirror_average = mirror_average;
+    options.landmark_normals = landmark_normals;
+    options.light_gain = light_gain;
+    options.light_solve = light_solve;
+    session_ = std::make_unique<Session>(options);
   }
 
-  Photo decompose(RgbImage image, const std::string& source, const PhotoInferOptions& options) {
+  Photo decompose(RgbImage image, const std::string& source, PhotoInferOptions options) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!detector_) detector_ = std::make_unique<FaceDetector>(landmark_model_);
-    PhotoInferOptions framed = options;
-    framed.framing = model_.framing;  // crops framed as the model was trained
-    PhotoDecomposer photos(*detector_, *decomposer_, *backend_, model_.input_size, framed);
-    return Photo{std::make_shared<const DecomposedPhoto>(photos.decompose(std::move(image), source))};
+    options.landmark_model = landmark_model_;
+    return Photo{std::make_shared<const DecomposedPhoto>(session_->decompose(std::move(image), source, options))};
   }
 
   RelitPhoto relight(const DecomposedPhoto& photo, const sh::RgbLight& light, const RelightSettings& settings) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (photo.crop_size != model_.input_size)
-      throw Error("this photo was decomposed by a model of " + std::to_string(photo.crop_size) +
-                  "-pixel crops; relight it with that model");
-    return relight_photo(photo, light, settings, *model_.renderer, *backend_);
+    return session_->relight(photo, light, settings);
   }
 
-  const DecompositionModel& model() const { return model_; }
-  std::string backend_name() const { return backend_->name(); }
+  const DecompositionModel& model() const { return session_->model(); }
+  std::string backend_name() const { return session_->backend().name(); }
 
  private:
   std::mutex mutex_;
   std::string landmark_model_;
-  Backend* backend_ = nullptr;
-  PluginLoader plugins_;
-  DecompositionModel model_;
-  std::unique_ptr<Decomposer> decomposer_;
-  std::unique_ptr<FaceDetector> detector_;
+  std::unique_ptr<Session> session_;
 };
 
 relight::Mode mode_from_name(const std::string& mode) {

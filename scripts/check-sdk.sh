@@ -92,10 +92,16 @@ if grep -n -e "$src" "$api/build.ninja" "$api/CMakeCache.txt" | head -5 | grep .
 fi
 if [ -e models/facetool-v2.safetensors ] && [ -e /usr/share/dlib/shape_predictor_68_face_landmarks.dat ]; then
   env -u FACETOOL_PLUGIN_PATH -u FACETOOL_MODEL_DIR "$api/decompose_photo" examples/photos/astronaut.png \
-    "$work/api-relit.png" > "$work/api-run.log" 2>&1 || { cat "$work/api-run.log"; fail "the API example failed"; }
+    "$work/api-out" > "$work/api-run.log" 2>&1 || { cat "$work/api-run.log"; fail "the API example failed"; }
   grep -q "^face 0: score" "$work/api-run.log" || { cat "$work/api-run.log"; fail "the API example found no face"; }
-  [ -s "$work/api-relit.png" ] || fail "the API example wrote no relit photo"
-  step "the C++ API example built against the prefix decomposes and relights a photo"
+  [ -s "$work/api-out/relit.png" ] || fail "the API example wrote no relit photo"
+  # Its decomposition is infer's, file for file (the model's framing and the CLI's defaults).
+  for file in albedo.png normal.png visibility.png shading.png reconstruction.png photo.exr \
+              face_0/normal.exr face_0/visibility.exr face_0/light.json; do
+    cmp -s "$work/api-out/$file" "$work/installed-infer/astronaut/$file" ||
+      fail "the API example's $file differs from the installed infer's"
+  done
+  step "the C++ API example built against the prefix decomposes a photo as infer does (9 files equal) and relights it"
 else
   step "the C++ API example built against the prefix (not run: no shipped model or landmark model)"
 fi
