@@ -25,6 +25,7 @@
 #include "libs/photo/relight_pipeline.h"
 #include "libs/photo/session.h"
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 #include "core/util/image_limits.h"
 
 namespace py = pybind11;
@@ -82,7 +83,10 @@ RgbImage image_from_array(const py::handle& object, const char* what) {
   RgbImage image;
   image.width = static_cast<int>(w);
   image.height = static_cast<int>(h);
-  image.pixels.resize(static_cast<size_t>(w) * h * 3);
+  const std::string task = std::string("reading ") + what + " (" + std::to_string(w) + " x " + std::to_string(h) + ")";
+  const uint64_t bytes = static_cast<uint64_t>(w) * h * 3 * sizeof(float);
+  check_memory_budget(bytes, task);
+  naming_out_of_memory(task, bytes, [&] { image.pixels.resize(static_cast<size_t>(w) * h * 3); });
   if (is_uint8) {
     // forcecast also copies arrays of any stride (slices, transposes) into C order.
     const auto c = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(a);
@@ -210,7 +214,11 @@ class Model {
   Photo decompose(RgbImage image, const std::string& source, PhotoInferOptions options) {
     std::lock_guard<std::mutex> lock(mutex_);
     options.landmark_model = landmark_model_;
-    return Photo{std::make_shared<const DecomposedPhoto>(session_->decompose(std::move(image), source, options))};
+    const std::string task = "decomposing a " + std::to_string(image.width) + " x " + std::to_string(image.height) + " photo";
+    const uint64_t bytes = static_cast<uint64_t>(image.width) * image.height * 47 * sizeof(float);  // photo_pipeline's layers
+    return naming_out_of_memory(task, bytes, [&] {
+      return Photo{std::make_shared<const DecomposedPhoto>(session_->decompose(std::move(image), source, options))};
+    });
   }
 
   RelitPhoto relight(const DecomposedPhoto& photo, const sh::RgbLight& light, const RelightSettings& settings) {
@@ -246,6 +254,8 @@ PYBIND11_MODULE(_facetool, m) {
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);
+    } catch (const OutOfMemory& e) {  // "out of memory while <task> (needs ~N GB)"
+      PyErr_SetString(PyExc_MemoryError, printable_text(e.what()).c_str());
     } catch (const Error& e) {
       error_type(printable_text(e.what()).c_str());
     }

@@ -12,6 +12,7 @@
 
 #include "libs/face/face_detector_engine.h"
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 #include "core/util/shared_library.h"
 
 namespace facetool {
@@ -105,7 +106,33 @@ bool looks_again_for_small_faces(const RgbImage& photo, const DetectionOptions& 
 
 }  // namespace
 
+namespace {
+
+// Memory a detection needs beyond the photo: the padded, scaled grey photo and its HOG features
+// (about 12 bytes a searched pixel) and, on the first detection of the process, OpenBLAS's
+// buffers (two of 128 MB; dlib's landmark alignment calls into it, and OpenBLAS retries a failed
+// allocation forever instead of failing, so the budget is checked before).
+uint64_t detection_bytes(const RgbImage& photo, const DetectionOptions& options, bool first) {
+  const double shorter = std::min(photo.width, photo.height);
+  const double padded = (photo.width + 2 * options.padding * shorter) * (photo.height + 2 * options.padding * shorter);
+  const double min_face = options.min_face_size > 0 ? options.min_face_size : automatic_min_face(photo);
+  const double scale = std::max(1.0, 80.0 / std::max(min_face, 1.0));
+  return static_cast<uint64_t>(padded * scale * scale * 12) + (first ? (uint64_t{320} << 20) : 0);
+}
+
+}  // namespace
+
 std::vector<DetectedFace> FaceDetector::detect(const RgbImage& photo, const DetectionOptions& options) {
+  const std::string task = "detecting faces in a " + std::to_string(photo.width) + " x " + std::to_string(photo.height) + " photo";
+  static std::atomic<bool> detected_before{false};
+  const uint64_t bytes = detection_bytes(photo, options, !detected_before.load());
+  check_memory_budget(bytes, task);
+  std::vector<DetectedFace> faces = naming_out_of_memory(task, bytes, [&] { return detect_unchecked(photo, options); });
+  detected_before = true;
+  return faces;
+}
+
+std::vector<DetectedFace> FaceDetector::detect_unchecked(const RgbImage& photo, const DetectionOptions& options) {
   DetectionOptions searched = options;
   const double smallest = smallest_searchable_face(photo.width, photo.height, options.padding);
   if (options.min_face_size > 0 && options.min_face_size < smallest) {

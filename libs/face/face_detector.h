@@ -145,6 +145,8 @@ class FaceDetector {
   // best score first. The detectors run on the padded photo scaled so that each size band's
   // face size becomes their 80-pixel window (faster on big photos); landmarks are fitted at
   // full resolution, in a box of the HOG detector's convention (CNN boxes are mapped to it).
+  // Throws OutOfMemory ("out of memory while detecting faces in a W x H photo (needs ~N GB)")
+  // before searching when the memory left (ulimit -v included) cannot hold the search.
   std::vector<DetectedFace> detect(const RgbImage& photo, const DetectionOptions& options = {});
   // Landmarks only, in a given box (HOG convention) (photo pixels): for tests on rendered faces with known boxes.
   Landmarks68 landmarks_in_box(const RgbImage& photo, double left, double top, double right,
@@ -159,6 +161,8 @@ class FaceDetector {
   static bool avx2_available();
 
  private:
+  std::vector<DetectedFace> detect_unchecked(const RgbImage& photo, const DetectionOptions& options);
+
   std::unique_ptr<FaceDetectorEngine> engine_;
   const char* code_name_ = "portable";
 };

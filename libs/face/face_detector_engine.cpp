@@ -24,6 +24,7 @@
 #include "libs/face/detection_bands.h"
 #include "libs/face/landmark_model_copy.h"
 #include "core/util/error.h"
+#include "core/util/memory_budget.h"
 #include "core/util/parallel_for.h"
 #include "core/util/math_constants.h"
 #include "core/util/file_checks.h"
@@ -145,6 +146,10 @@ DlibEngine::DlibEngine(const std::string& landmark_model, const std::string& cnn
       check(static_cast<bool>(in), "cannot open it");
       predictor_ = LandmarkTrees(landmark_model_copy_of(in));
     }
+  } catch (const std::bad_alloc&) {
+    std::error_code size_error;
+    const uintmax_t size = std::filesystem::file_size(landmark_model, size_error);
+    throw out_of_memory("reading the landmark model '" + landmark_model + "'", size_error ? 0 : 2 * size);
   } catch (const std::exception& e) {
     fail("cannot read landmark model '", landmark_model, "': ", e.what(),
          " (expected dlib's shape_predictor_68_face_landmarks.dat)");

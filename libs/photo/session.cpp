@@ -1,10 +1,13 @@
 // Session: the shipped model, renderer, backend and detector with the command line's defaults.
 #include "libs/photo/session.h"
 
+#include <filesystem>
 #include <utility>
 
 #include "core/backend/registry.h"
+#include "core/util/memory_budget.h"
 #include "libs/face/photo_reader.h"
+#include "libs/model/default_model.h"
 
 namespace facetool {
 
@@ -12,7 +15,12 @@ Session::Session(const SessionOptions& options) {
   backend_ = &get_backend(options.backend);
   plugins_.set_search_dirs(library_plugin_dirs());
   plugins_.discover();
-  model_ = load_decomposition_model(plugins_, *backend_, options.weights, options.renderer);
+  const std::string weights = options.weights.empty() ? default_model_path() : options.weights;
+  std::error_code size_error;
+  const uintmax_t size = std::filesystem::file_size(weights, size_error);
+  // The file read whole, then the network's tensors and its workspace: about 4 times the file.
+  model_ = naming_out_of_memory("loading the model '" + weights + "'", size_error ? 0 : 4 * size + (64u << 20),
+                                [&] { return load_decomposition_model(plugins_, *backend_, weights, options.renderer); });
   decomposer_ = std::make_unique<Decomposer>(*model_.network, *model_.renderer);
   decomposer_->set_landmark_normals(options.landmark_normals ? model_.landmark_normals.get() : nullptr);
   decomposer_->set_mirror_average(options.mirror_average);

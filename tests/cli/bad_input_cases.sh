@@ -21,6 +21,7 @@
 set -u
 FACETOOL=$(realpath "$1")
 shift
+EXAMPLE_PHOTOS=$(realpath "$(dirname "${BASH_SOURCE[0]}")/../../examples/photos")
 GROUP='.'
 REPORT=0
 WORK=''
@@ -62,6 +63,7 @@ EOF
       -o "$FX/infer" --raw-output "$FX/raw.safetensors" > /dev/null 2>&1 || return 1
   cp "$FX/infer/picture/input.png" "$FX/face.png"
   cp "$FX/face.png" "$FX/face_copy.png"
+  cp "$EXAMPLE_PHOTOS/grace_hopper_512x512.jpg" "$FX/photo.jpg"  # a real face, for detection
   cp "$FX/infer/picture/albedo.exr" "$FX/albedo.exr"
   cp "$FX/infer/picture/normal.exr" "$FX/normal.exr"
   cp "$FX/infer/picture/visibility.exr" "$FX/visibility.exr"
@@ -487,6 +489,10 @@ limit_cases() {
     else
       skip_case limits/infer-memory "no address-space limit lets facetool start here"
     fi
+    # Detection under 450 MB: dlib's landmark alignment calls OpenBLAS, which retries a failed
+    # allocation forever; the budget is checked before (issue 55: it hung).
+    LIMITS="ulimit -v 450000" run_table_case limits/detect-memory "out of memory while" \
+      "detect {FX}/photo.jpg --report {OUT}/faces.csv"
     base=$(smallest_working_memory_limit synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" \
       -o "$WORK/probe_synth" --size 32 --count 1)
     if [ -n "$base" ]; then

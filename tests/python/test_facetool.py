@@ -319,3 +319,39 @@ def test_gil_is_released_during_compute(model):
         ticks += 1
     worker.join()
     assert ticks > 1000
+
+
+def _run_under_memory_limit(setup, code, headroom_mb):
+    """Runs `setup`, then `code` under an address-space limit of what the interpreter uses after
+    the setup plus `headroom_mb`, in a fresh interpreter; returns its (returncode, stdout, stderr)."""
+    script = ("import resource, sys, numpy, facetool\n" + setup +
+              "used = int(open('/proc/self/statm').read().split()[0]) * resource.getpagesize()\n"
+              f"limit = used + {headroom_mb} * 2**20\n"
+              "resource.setrlimit(resource.RLIMIT_AS, (limit, limit))\n" + code)
+    done = subprocess.run([os.sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ))
+    return done.returncode, done.stdout, done.stderr
+
+
+def test_out_of_memory_is_a_memory_error_naming_the_task():
+    # Under a limit that leaves 20 MB, loading the model raises MemoryError naming the task and
+    # about how much it needs (issue 55: a bare "std::bad_alloc", or the interpreter aborted).
+    code = ("try:\n    facetool.load_model()\n    print('loaded')\n"
+            "except MemoryError as e:\n    print('MemoryError:', e)\n")
+    rc, out, err = _run_under_memory_limit("", code, 20)
+    assert rc == 0, err
+    if out.startswith("loaded"):
+        pytest.skip("the model loaded within 20 MB more (nothing to check)")
+    assert out.startswith("MemoryError: out of memory while"), out + err
+    assert "needs ~" in out and "bad_alloc" not in out
+
+
+@needs_photo_model
+def test_detection_under_a_memory_limit_ends_with_a_memory_error():
+    # Detection calls into OpenBLAS, which retries a failed allocation forever: with the model
+    # loaded and 100 MB left, decompose must end (the subprocess's timeout) with a MemoryError.
+    code = (f"try:\n    m.decompose_file({PHOTO!r})\n    print('decomposed')\n"
+            "except MemoryError as e:\n    print('MemoryError:', e)\n")
+    rc, out, err = _run_under_memory_limit("m = facetool.load_model()\n", code, 100)
+    assert rc == 0, err
+    assert out.startswith("MemoryError: out of memory while"), out + err
