@@ -202,6 +202,8 @@ ViewPhoto read_view_photo(const std::string& folder, const ViewOptions& options)
   out.mask_mismatch = best;
   for (ViewFace& face : out.faces) {
     const std::vector<Point2> polygon = crop_polygon(face, best_shape);
+    const PasteRegion region = paste_region(out.width, out.height, face.photo_to_crop, face.crop_size, polygon, 0.0);
+    face.region = {region.x0, region.y0, region.width, region.height};
     for (size_t i = 0; i < polygon.size(); ++i) {
       // ConvexInterior's edge lines (face_mask.cpp): the signed distance, positive inside.
       const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];

@@ -28,6 +28,7 @@ struct ViewFace {
   Similarity2 photo_to_crop;
   std::vector<Point2> landmarks;            // photo pixels
   std::array<double, 4> box{};              // x0, y0, x1, y1 in photo pixels
+  std::array<int, 4> region{};              // x0, y0, width, height: the photo pixels it pastes into
   std::vector<std::array<double, 3>> mask_lines;  // the mask's edges in crop pixels: nx x + ny y + c > 0 inside
   sh::RgbLight photo_light{};               // the estimated light, photo frame
   std::array<double, 81> photo_to_crop_sh{};  // 9x9 row-major: a light's coefficients, photo frame to crop frame

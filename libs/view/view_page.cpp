@@ -93,6 +93,7 @@ nlohmann::json page_data(const ViewPhoto& photo, const std::vector<LightPreset>&
     for (const Point2& p : face.landmarks) landmarks.push_back({p.x, p.y});
     f["landmarks"] = landmarks;
     f["box"] = face.box;
+    f["region"] = face.region;
     nlohmann::json lines = nlohmann::json::array();
     for (const auto& line : face.mask_lines) lines.push_back(line);
     f["mask_lines"] = lines;

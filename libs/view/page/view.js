@@ -309,7 +309,18 @@ class Relighter {
       gl.uniform1i(u('u_visibility'), visibility ? 1 : 0);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     });
-    this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null);
+    // Outside the faces' regions both modes give the photo: drawn once, then only the regions.
+    if (this.drawn) {
+      gl.enable(gl.SCISSOR_TEST);
+      for (const [x, y, w, h] of this.faces.map((f) => f.region)) {
+        gl.scissor(x, this.h - y - h, w, h);
+        this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null);
+      }
+      gl.disable(gl.SCISSOR_TEST);
+    } else {
+      this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null);
+      this.drawn = true;
+    }
   }
 
   // The canvas's RGBA bytes, top row first.
