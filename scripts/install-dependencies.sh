@@ -19,6 +19,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy  # the Python module (import facetool; docs/python.md)
   python3-pytest  # tests only: the Python module's tests (tests/python)
   python3-torch  # tests only: the independent PyTorch reference (scripts/pytorch_reference.py)
+  chromium chromium-driver  # tests only: `facetool view`'s pages in a real browser (tests/view)
   python3-numpy python3-openimageio  # the Yale B normal benchmark (scripts/yaleb_benchmark.py; its test needs numpy only)
   libjemalloc2   # benchmarks only: preloaded under PyTorch by scripts/bench-anchors.py (allocator)
   clang libclang-rt-14-dev valgrind  # tests only: fuzzers, sanitizers, memcheck (docs/testing.md)

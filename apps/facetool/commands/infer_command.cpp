@@ -21,6 +21,7 @@
 #include "libs/photo/photo_files.h"
 #include "libs/model/network_weights.h"
 #include "libs/model/safetensors.h"
+#include "libs/view/view_files.h"
 #include "core/util/file_checks.h"
 #include "core/util/folder_lock.h"
 #include "core/util/output_names.h"
@@ -44,6 +45,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are face crops, one face each: aligned by their landmarks when a face is found in the (padded) crop, otherwise stretched to the network's input (reported)")
       ("stretch", "with --aligned: stretch every crop to the network's input as it is, without looking for its landmarks (crops already in the network's framing, e.g. synth samples)")
+      ("view", "also write view.html per photo and index.html in the output folder (`facetool view`, docs/viewer.md)")
       ("with-fit", "also fit the ICT-FaceKit model to every face and write `facetool fit`'s files in <name>/fit/ (docs/fit.md)");
   add_network_options(options);
   add_fit_options(options);
@@ -102,6 +104,7 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   const bool aligned = values.count("aligned") > 0;
   if (!aligned && values.count("raw-output")) throw UsageError("infer: --raw-output needs --aligned");
   if (!aligned && values.count("stretch")) throw UsageError("infer: --stretch needs --aligned");
+  if (aligned && values.count("view")) throw UsageError("infer: --view needs photos, not --aligned crops");
   std::vector<std::string> files =
       aligned ? values["images"].as<std::vector<std::string>>()
               : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
@@ -159,7 +162,19 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   if (!aligned) {
     const std::unique_ptr<FaceDetector> detector = make_face_detector(photo_options);
     PhotoDecomposer photo_decomposer(*detector, decomposer, backend, size, photo_options);
-    const int failed = infer_photos(files, stems, out_dir, photo_decomposer, photo_options);
+    int failed = infer_photos(files, stems, out_dir, photo_decomposer, photo_options);
+    if (values.count("view")) {
+      std::vector<std::string> folders;
+      for (const std::string& stem : stems)
+        if (fs::exists(fs::path(out_dir) / stem / "faces.json")) folders.push_back((fs::path(out_dir) / stem).string());
+      view::ViewOptions view_options;
+      view_options.feather = photo_options.feather;
+      view_options.mask = photo_options.extends_forehead() ? view::MaskShape::kForehead : view::MaskShape::kHull;
+      if (!folders.empty()) {
+        failed += view::write_view_pages(folders, (fs::path(out_dir) / "index.html").string(), view_options);
+        std::cerr << "view pages: " << (fs::path(out_dir) / "index.html").string() << "\n";
+      }
+    }
     std::cerr << "wrote the results of " << files.size() - failed << " of " << files.size()
               << " photos to " << out_dir << "\n";
     if (failed > 0) std::cerr << failed << " photo(s) failed (see above)\n";

@@ -1,0 +1,312 @@
+#!/usr/bin/env python3
+"""`facetool view` checked in headless Chromium (issue 54), driven over chromedriver's HTTP API.
+
+The page's relit faces are compared with `facetool relight` (render and ratio, with and without
+visibility, one and two faces), the wipe with infer's PNGs, the exported light with relight
+--light; the console must stay free of errors and every request the page makes must be data: or
+blob:. Bad inputs get clear messages. Prints the page's open time, frame rate and size.
+usage: view_browser_test.py FACETOOL EXAMPLES_DIR WORK_DIR   (exit 77: no chromium, skipped)
+"""
+import base64
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+
+import numpy as np
+import OpenImageIO as oiio
+
+FACETOOL, EXAMPLES, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
+MEAN_TOLERANCE, P99_TOLERANCE = 1.0, 3.0  # 8-bit levels, inside the face (issue 54's goal)
+failures = []
+
+
+def check(condition, message):
+    print(("ok   " if condition else "FAIL ") + message, flush=True)
+    if not condition:
+        failures.append(message)
+
+
+def run(*args, expect=0):
+    result = subprocess.run([FACETOOL, *args], capture_output=True, text=True)
+    if expect is not None and result.returncode != expect:
+        print(result.stdout, result.stderr)
+        raise SystemExit(f"facetool {' '.join(args)}: exit {result.returncode}, expected {expect}")
+    return result
+
+
+def read_image(path):
+    buf = oiio.ImageBuf(path)
+    pixels = buf.get_pixels(oiio.FLOAT)
+    if pixels is None or pixels.size == 0:
+        raise SystemExit(f"cannot read {path}: {buf.geterror()}")
+    return pixels
+
+
+def write_image(path, pixels):
+    out = oiio.ImageOutput.create(path)
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], oiio.UINT8)
+    out.open(path, spec)
+    out.write_image(pixels)
+    out.close()
+
+
+class Browser:
+    """Headless Chromium through chromedriver's W3C WebDriver HTTP API (urllib only)."""
+
+    def __init__(self, chromium, chromedriver):
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            self.port = s.getsockname()[1]
+        self.driver = subprocess.Popen([chromedriver, f"--port={self.port}"], stdout=subprocess.DEVNULL,
+                                       stderr=subprocess.DEVNULL)
+        for _ in range(100):
+            try:
+                self.call("GET", "/status")
+                break
+            except OSError:
+                time.sleep(0.1)
+        args = ["--headless=new", "--no-sandbox", "--disable-gpu-sandbox", "--use-angle=swiftshader",
+                "--enable-unsafe-swiftshader", "--window-size=1400,1000", "--disable-dev-shm-usage"]
+        caps = {"browserName": "chrome", "goog:chromeOptions": {"binary": chromium, "args": args},
+                "goog:loggingPrefs": {"browser": "ALL", "performance": "ALL"}}
+        self.session = self.call("POST", "/session", {"capabilities": {"alwaysMatch": caps}})["sessionId"]
+        self.call("POST", f"/session/{self.session}/timeouts", {"script": 600000})
+
+    def call(self, method, path, body=None):
+        data = None if body is None else json.dumps(body).encode()
+        request = urllib.request.Request(f"http://127.0.0.1:{self.port}{path}", data=data, method=method,
+                                         headers={"Content-Type": "application/json"})
+        try:
+            with urllib.request.urlopen(request, timeout=600) as response:
+                return json.loads(response.read())["value"]
+        except urllib.error.HTTPError as e:
+            raise SystemExit(f"webdriver {path}: {e.read().decode()[:2000]}")
+
+    def open(self, path):
+        """Opens a page from disk; returns the seconds until its script is ready."""
+        start = time.time()
+        self.call("POST", f"/session/{self.session}/url", {"url": "file://" + os.path.abspath(path)})
+        while True:
+            state = self.js("return document.body ? document.body.dataset.ready || '' : ''")
+            if state:
+                break
+            if time.time() - start > 120:
+                raise SystemExit(f"{path}: the page did not get ready in 120 s")
+            time.sleep(0.02)
+        if state != "1":
+            status = self.js("return document.getElementById('status').textContent")
+            raise SystemExit(f"{path}: the page failed: {status}")
+        return time.time() - start
+
+    def js(self, script, *args):
+        return self.call("POST", f"/session/{self.session}/execute/sync", {"script": script, "args": list(args)})
+
+    def pixels(self, expression, width, height):
+        text = self.js("const a = " + expression + "; let s = '';"
+                       "for (let i = 0; i < a.length; i += 32768) s += String.fromCharCode.apply(null, a.subarray(i, i + 32768));"
+                       "return btoa(s);")
+        return np.frombuffer(base64.b64decode(text), np.uint8).reshape(height, width, 4)[:, :, :3].astype(np.float64)
+
+    def log(self, kind):
+        return self.call("POST", f"/session/{self.session}/se/log", {"type": kind})
+
+    def close(self):
+        try:
+            self.call("DELETE", f"/session/{self.session}")
+        finally:
+            self.driver.terminate()
+            self.driver.wait()
+
+
+def compare(name, page, reference_png, face):
+    """Mean and 99th percentile of |page - reference| in 8-bit levels over the face's pixels."""
+    reference = np.round(read_image(reference_png)[:, :, :3] * 255)
+    difference = np.abs(page - reference)[face]
+    mean, p99 = difference.mean(), np.percentile(difference, 99)
+    check(mean <= MEAN_TOLERANCE and p99 <= P99_TOLERANCE,
+          f"{name}: page vs relight inside the face: mean {mean:.3f}, p99 {p99:.3f}, max {difference.max():.0f} (levels)")
+    return mean, p99
+
+
+def face_pixels(folder):
+    return read_image(os.path.join(folder, "photo.exr"))[:, :, 3] > 0.5
+
+
+def relight(photo, out, *args):
+    run("relight", photo, "-o", out, "--no-visibility", *args)
+    return os.path.join(out, os.path.splitext(os.path.basename(photo))[0])
+
+
+def main():
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    chromedriver = shutil.which("chromedriver")
+    if not chromium or not chromedriver:
+        print("SKIP: chromium and chromedriver are needed (Debian: apt-get install chromium chromium-driver; "
+              "scripts/install-dependencies.sh installs them)")
+        return 77
+    shutil.rmtree(WORK, ignore_errors=True)
+    os.makedirs(WORK)
+    grace = os.path.join(EXAMPLES, "grace_hopper_512x512.jpg")
+    # A photo with two faces: Grace Hopper beside her mirror image; and a 1024 x 1024 one.
+    photo = read_image(grace)[:, :, :3]
+    two = os.path.join(WORK, "two_faces.png")
+    write_image(two, np.concatenate([photo, photo[:, ::-1]], axis=1))
+    big = os.path.join(WORK, "big_1024.png")
+    write_image(big, np.repeat(np.repeat(photo, 2, axis=0), 2, axis=1))
+
+    out = os.path.join(WORK, "out")
+    run("infer", grace, two, big, "-o", out, "--view")
+    folder = os.path.join(out, "grace_hopper_512x512")
+    for page in ["index.html", "grace_hopper_512x512/view.html", "two_faces/view.html", "big_1024/view.html"]:
+        check(os.path.isfile(os.path.join(out, page)), f"infer --view wrote {page}")
+    # `view` writes the same pages again (the folder given as infer's output).
+    result = run("view", out)
+    check("wrote 3 view page(s)" in result.stderr, "view OUT writes a page per photo")
+
+    light = ("30,20", "0.2", "0.9")  # azimuth,elevation; ambient; intensity
+    az, el = (float(v) for v in light[0].split(","))
+    render = relight(grace, os.path.join(WORK, "render"), "--mode", "render", "--light-direction", light[0],
+                     "--ambient", light[1], "--intensity", light[2])
+    ratio = relight(grace, os.path.join(WORK, "ratio"), "--mode", "ratio", "--light-direction", light[0],
+                    "--ambient", light[1], "--intensity", light[2])
+
+    browser = Browser(chromium, chromedriver)
+    try:
+        seconds = browser.open(os.path.join(folder, "view.html"))
+        w, h = 512, 512
+        face = face_pixels(folder)
+        figures = {}
+        for mode, visibility, reference in [("render", True, "relit.png"), ("render", False, "relit_no_visibility.png"),
+                                            ("ratio", True, "relit.png"), ("ratio", False, "relit_no_visibility.png")]:
+            browser.js(f"facetoolView.setDirectional({az}, {el}, {light[1]}, {light[2]});"
+                       f"facetoolView.setMode('{mode}', {str(visibility).lower()});")
+            page = browser.pixels("facetoolView.relitPixels()", w, h)
+            folder_of = render if mode == "render" else ratio
+            figures[(mode, visibility)] = compare(f"{mode}, visibility {'on' if visibility else 'off'}", page,
+                                                  os.path.join(folder_of, reference), face)
+
+        # The wipe: albedo left of the middle, normals right of it.
+        browser.js("facetoolView.setWipe('albedo', 'normal', 0.5)")
+        shown = browser.pixels("facetoolView.viewPixels()", w, h)
+        albedo = np.round(read_image(os.path.join(folder, "albedo.png"))[:, :, :3] * 255)
+        normal = np.round(read_image(os.path.join(folder, "normal.png"))[:, :, :3] * 255)
+        left, right = np.abs(shown[:, :255] - albedo[:, :255]).max(), np.abs(shown[:, 257:] - normal[:, 257:]).max()
+        check(left <= 1 and right <= 1, f"wipe: albedo.png on the left (max difference {left:.0f}), normal.png on the right ({right:.0f})")
+
+        # The exported light, given to relight --light, gives the page's image.
+        browser.js("facetoolView.setDirectional(-50, 10, 0.1, 1.2); facetoolView.setMode('render', true);")
+        light_file = os.path.join(WORK, "exported_light.json")
+        with open(light_file, "w") as f:
+            f.write(browser.js("return facetoolView.lightFileText()"))
+        page = browser.pixels("facetoolView.relitPixels()", w, h)
+        exported = relight(grace, os.path.join(WORK, "exported"), "--mode", "render", "--light", light_file)
+        compare("exported light through relight --light", page, os.path.join(exported, "relit.png"), face)
+
+        # Two faces: both relit.
+        two_folder = os.path.join(out, "two_faces")
+        browser.open(os.path.join(two_folder, "view.html"))
+        browser.js(f"facetoolView.setDirectional({az}, {el}, {light[1]}, {light[2]}); facetoolView.setMode('render', true);")
+        page = browser.pixels("facetoolView.relitPixels()", 1024, 512)
+        two_render = relight(two, os.path.join(WORK, "two_render"), "--mode", "render", "--light-direction", light[0],
+                             "--ambient", light[1], "--intensity", light[2])
+        faces = json.load(open(os.path.join(two_folder, "faces.json")))["faces"]
+        check(len(faces) == 2, f"the two-face photo has {len(faces)} faces in infer's output")
+        mask = face_pixels(two_folder)
+        for half, name in [(slice(0, 512), "left"), (slice(512, 1024), "right")]:
+            only = np.zeros_like(mask)
+            only[:, half] = mask[:, half]
+            compare(f"two faces, the {name} one (render)", page, os.path.join(two_render, "relit.png"), only)
+
+        # The frame rate while the light moves, and the open time, on the 1024 x 1024 photo.
+        big_page = os.path.join(out, "big_1024", "view.html")
+        open_seconds = browser.open(big_page)
+        open_ms = browser.js("return facetoolView.openMs")
+        browser.js("facetoolView.frameTimes(5)")  # warm-up
+        times = browser.js("return facetoolView.frameTimes(60)")
+        fps = 1000.0 / (sum(times) / len(times))
+        pngs = sum(os.path.getsize(os.path.join(out, "big_1024", n + ".png"))
+                   for n in ["albedo", "normal", "shading", "visibility", "reconstruction"])
+        size = os.path.getsize(big_page)
+        print(f"FIGURES 1024x1024: {fps:.1f} frames/s while the light turns (headless chromium, SwiftShader); "
+              f"open {open_ms:.0f} ms in the page's script, {open_seconds * 1000:.0f} ms from navigation to ready; "
+              f"page {size / 1e6:.2f} MB vs its 5 layer PNGs {pngs / 1e6:.2f} MB ({size / pngs:.2f}x)")
+        print(f"FIGURES grace 512x512: page opened in {seconds * 1000:.0f} ms")
+        check(size < 3 * pngs, f"the page is under 3x the PNGs it replaces ({size / pngs:.2f}x)")
+
+        # The console: no errors; the network: nothing but data: and blob: (and the page itself).
+        page_errors = browser.js("return facetoolView.errors")
+        severe = [e["message"] for e in browser.log("browser") if e.get("level") == "SEVERE"]
+        check(not page_errors and not severe, f"no console errors ({page_errors + severe})")
+        urls = []
+        for entry in browser.log("performance"):
+            message = json.loads(entry["message"])["message"]
+            if message.get("method") == "Network.requestWillBeSent":
+                urls.append(message["params"]["request"]["url"])
+        outside = [u[:80] for u in urls if not u.startswith(("data:", "blob:")) and not u.endswith("/view.html")]
+        check(urls and not outside, f"{len(urls)} requests, all data:, blob: or the page itself ({outside})")
+
+        # A name with spaces, quotes and <script>: escaped in the page, shown as text.
+        odd = os.path.join(WORK, "odd", "a \"b\" 'c' <script>alert(1)")
+        shutil.copytree(folder, odd)
+        run("view", odd)
+        html = open(os.path.join(odd, "view.html"), encoding="utf-8").read()
+        check("<script>alert(1)" not in html, "a name with <script> is escaped in the page")
+        browser.open(os.path.join(odd, "view.html"))
+        title = browser.js("return document.querySelector('h1').textContent")
+        check(title == os.path.basename(odd), f"the page shows the name as text ({title!r})")
+        alerts = browser.js("return facetoolView.errors")
+        check(not alerts, "the odd page has no errors")
+    finally:
+        browser.close()
+
+    bad_inputs(folder)
+    for key, (mean, p99) in figures.items():
+        print(f"FIGURES match {key[0]} visibility={'on' if key[1] else 'off'}: mean {mean:.3f}, p99 {p99:.3f} levels")
+    if failures:
+        print(f"{len(failures)} check(s) failed")
+        return 1
+    return 0
+
+
+def bad_inputs(folder):
+    """view on folders that are not (whole) infer outputs: a clear message and exit 1."""
+    not_infer = os.path.join(WORK, "not_infer")
+    os.makedirs(not_infer)
+    result = run("view", not_infer, expect=1)
+    check("not an output of `facetool infer`" in result.stderr, f"a folder that is not an infer output: {result.stderr.strip()}")
+
+    missing = os.path.join(WORK, "missing", "photo")
+    shutil.copytree(folder, missing)
+    os.remove(os.path.join(missing, "albedo.png"))
+    result = run("view", missing, expect=1)
+    check("has no albedo.png" in result.stderr, f"a missing layer: {result.stderr.strip()}")
+    missing_face = os.path.join(WORK, "missing_face", "photo")
+    shutil.copytree(folder, missing_face)
+    os.remove(os.path.join(missing_face, "face_0", "visibility.exr"))
+    result = run("view", missing_face, expect=1)
+    check("visibility.exr' is missing" in result.stderr, f"a missing face layer: {result.stderr.strip()}")
+
+    for side, expected in [(1, "too small to hold a face"), (12000, "larger than the page's limit")]:
+        odd = os.path.join(WORK, f"size_{side}", "photo")
+        shutil.copytree(folder, odd)
+        exr = os.path.join(odd, "photo.exr")
+        out = oiio.ImageOutput.create(exr)
+        spec = oiio.ImageSpec(side, side, 4, oiio.HALF)
+        spec.channelnames = ("R", "G", "B", "A")
+        spec.attribute("compression", "zip")
+        out.open(exr, spec)
+        row = np.zeros((1, side, 4), np.float16)
+        for y in range(side):
+            out.write_scanline(y, 0, row)
+        out.close()
+        result = run("view", odd, expect=1)
+        check(expected in result.stderr, f"a {side}x{side} photo: {result.stderr.strip()}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
