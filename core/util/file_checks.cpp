@@ -133,4 +133,26 @@ void check_output_is_not_an_input(const std::string& output, const std::string& 
           "' of this run; writing it would replace that input: choose another output name");
 }
 
+void check_inputs_outside_output_folders(const std::vector<std::string>& inputs,
+                                         const std::vector<std::string>& folders, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> written;
+  for (const std::string& folder : folders) {
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+    if (!ec) written.push_back(canonical);
+  }
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    const fs::path canonical = fs::canonical(input, ec);
+    if (ec) continue;  // a missing input is named by its reader
+    for (size_t k = 0; k < written.size(); ++k)
+      for (fs::path up = canonical.parent_path(); !up.empty(); up = up.parent_path()) {
+        check(up != written[k], "the input '", input, "' lies in '", folders[k], "', which this run writes (",
+              option, "): it could be replaced; move it or choose another output folder");
+        if (up == up.root_path()) break;
+      }
+  }
+}
+
 }  // namespace facetool

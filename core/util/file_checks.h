@@ -45,4 +45,11 @@ bool same_existing_file(const std::string& a, const std::string& b);
 void check_output_is_not_an_input(const std::string& output, const std::string& option,
                                   const std::vector<std::string>& inputs);
 
+// Before any work: throws facetool::Error naming the input and the folder when one of `inputs`
+// lies (at any depth) in one of `folders`, the folders a run writes its results into (e.g.
+// <-o>/<photo name>/, whose files it replaces and whose stale sub-folders it removes). Symbolic
+// links are resolved; `option` names where the folders come from ("-o DIR").
+void check_inputs_outside_output_folders(const std::vector<std::string>& inputs,
+                                         const std::vector<std::string>& folders, const std::string& option);
+
 }  // namespace facetool

@@ -7,6 +7,7 @@
 
 #include "libs/face/landmark_drawing.h"
 #include "libs/fit/fit_outputs.h"
+#include "libs/io/face_folders.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
@@ -43,7 +44,7 @@ void PhotoFitter::write(const std::string& folder, const RgbImage& photo, const 
   std::vector<FitRendering> renderings;
   for (size_t k = 0; k < fits.size(); ++k) {
     renderings.push_back(render_fit(basis_->model(), fits[k], &sampler_, options_.render));
-    const std::string face_folder = k == 0 ? folder : (fs::path(folder) / ("face_" + std::to_string(k))).string();
+    const std::string face_folder = k == 0 ? folder : face_folder_name(folder, static_cast<int>(k));
     std::error_code ec;
     fs::create_directories(face_folder, ec);
     check(!ec, "cannot create output folder '", face_folder, "': ", ec.message());
@@ -55,6 +56,8 @@ void PhotoFitter::write(const std::string& folder, const RgbImage& photo, const 
       ++timing->faces;
     }
   }
+  // face_<k>/ of an earlier fit of this photo that found more faces (fit.json lists this run's).
+  remove_stale_face_folders(folder, std::max<int>(1, static_cast<int>(fits.size())));
   if (options_.contact_sheet && !fits.empty()) {
     const RgbImage row = fit_contact_sheet_row(photo, faces, fits, renderings, std::min(photo.width, 512));
     write_png_atomically((fs::path(folder) / "contact_sheet.png").string(), row, false);

@@ -23,6 +23,7 @@
 #include "libs/face/rgba_png.h"
 #include "libs/fit/photo_fit.h"
 #include "libs/io/exr_io.h"
+#include "libs/io/face_folders.h"
 #include "libs/io/image_io.h"
 #include "libs/io/png_encoding.h"
 #include "libs/photo/decomposition_files.h"
@@ -182,7 +183,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   for (const FaceCrop& c : photo.crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
   std::vector<RgbImage> sheet_rows;
   for (int k = 0; k < n; ++k) {
-    write_decomposition((fs::path(folder) / ("face_" + std::to_string(k))).string(), d, k, inputs, photo.path);
+    write_decomposition(face_folder_name(folder, k), d, k, inputs, photo.path);
     if (options.contact_sheet) sheet_rows.push_back(contact_sheet_row(d, k, inputs));
   }
 
@@ -252,11 +253,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
 
   // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
   // replaced by this run's, which has fewer faces (faces.json lists them).
-  for (int k = n;; ++k) {
-    const fs::path stale = fs::path(folder) / ("face_" + std::to_string(k));
-    if (!fs::is_directory(stale, ec)) break;
-    fs::remove_all(stale, ec);
-  }
+  remove_stale_face_folders(folder, n);
   if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
     std::vector<DetectedFace> faces;
     for (const FaceCrop& c : photo.crops) faces.push_back(c.face);

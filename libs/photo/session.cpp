@@ -1,6 +1,8 @@
 // Session: the shipped model, renderer, backend and detector with the command line's defaults.
 #include "libs/photo/session.h"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <utility>
 
@@ -26,9 +28,18 @@ Session::Session(const SessionOptions& options) {
   decomposer_->set_mirror_average(options.mirror_average);
   decomposer_->set_light_gain(options.light_gain);
   decomposer_->set_light_solve(options.light_solve);
+  creator_pid_ = static_cast<long>(::getpid());
 }
 
 Session::~Session() = default;
+
+void Session::check_not_forked() const {
+  const long pid = static_cast<long>(::getpid());
+  check(pid == creator_pid_ || backend_->name() == "cpu", "the ", backend_->name(), " backend was started in process ",
+        creator_pid_, " and this process (", pid, ") is a fork of it, where ", backend_->name(),
+        " cannot run (its driver's threads are not copied by fork): load the model in this process, or start "
+        "worker processes with the 'spawn' or 'forkserver' method (Python's multiprocessing)");
+}
 
 PhotoInferOptions Session::framed(const PhotoInferOptions& options) const {
   PhotoInferOptions framed = options;
@@ -44,6 +55,7 @@ FaceDetector& Session::detector(const PhotoInferOptions& options) {
 }
 
 DecomposedPhoto Session::decompose(RgbImage photo, const std::string& source, const PhotoInferOptions& options) {
+  check_not_forked();
   const PhotoInferOptions o = framed(options);
   PhotoDecomposer photos(detector(o), *decomposer_, *backend_, model_.input_size, o);
   return photos.decompose(std::move(photo), source);
@@ -56,12 +68,14 @@ DecomposedPhoto Session::decompose(RgbImage photo, const std::string& source) {
 DecomposedPhoto Session::decompose_file(const std::string& path) { return decompose_file(path, defaults_); }
 
 DecomposedPhoto Session::decompose_file(const std::string& path, const PhotoInferOptions& options) {
+  check_not_forked();
   const PhotoInferOptions o = framed(options);
   PhotoDecomposer photos(detector(o), *decomposer_, *backend_, model_.input_size, o);
   return photos.decompose_file(path);
 }
 
 RelitPhoto Session::relight(const DecomposedPhoto& photo, const sh::RgbLight& light, const RelightSettings& settings) {
+  check_not_forked();
   check(photo.crop_size == model_.input_size, "this photo was decomposed by a model of ", photo.crop_size,
         "-pixel crops; relight it with that model");
   return relight_photo(photo, light, settings, *model_.renderer, *backend_);

@@ -30,7 +30,8 @@ struct SessionOptions {
 // The model, its renderer and backend, and the face detector, loaded once (about a second) and
 // used for any number of photos. Whatever must match the model comes from the model: the crop
 // size, the framing of the crops (PhotoInferOptions::framing is set from the weights), and the
-// landmark normal head. Not thread-safe: one photo at a time per Session.
+// landmark normal head. Not thread-safe: one photo at a time per Session. On the opencl backend
+// a Session cannot be used in a forked child (it says so); the cpu backend can.
 class Session {
  public:
   // Throws facetool::Error naming what is missing (the model, a plugin, the backend).
@@ -62,6 +63,9 @@ class Session {
 
  private:
   FaceDetector& detector(const PhotoInferOptions& options);
+  // Throws facetool::Error in a process forked from the one that created the Session when its
+  // backend does not survive fork (OpenCL: the driver's threads are not copied, so work never ends).
+  void check_not_forked() const;
 
   Backend* backend_ = nullptr;
   PluginLoader plugins_;
@@ -69,6 +73,7 @@ class Session {
   std::unique_ptr<Decomposer> decomposer_;
   std::unique_ptr<FaceDetector> detector_;
   PhotoInferOptions defaults_;  // infer's
+  long creator_pid_ = 0;
 };
 
 }  // namespace facetool

@@ -166,6 +166,7 @@ seed_output() {
   cp "$FX/light.json" "$out/light.json"
   cp "$FX/light_sfsnet.txt" "$out/light.txt"
   cp "$FX/face.png" "$out/preview.png"
+  mkdir -p "$out/photo" && cp "$FX/photo.jpg" "$out/photo/photo.jpg"  # a photo in its own output folder
   cp "$FX/raw.safetensors" "$out/raw.safetensors"
   # Round two: results of other runs that a bad run must not touch.
   for run in run finished negative past shard0 shard1 shard2 real synth_out; do
@@ -298,6 +299,20 @@ pseudo-label/one-name-two-folders|would both be written|pseudo-label --model {FX
 pseudo-label/output-over-its-input|would replace|pseudo-label --model {FX}/run/weights.safetensors {OUT}/synth_out/sample_00000000.exr -o {OUT}/synth_out
 prepare-real/over-synthetic-samples|another kind|prepare-real {FX}/face.png -o {OUT}/synth_out
 prepare-real/other-settings|other settings|prepare-real {FX}/face.png -o {OUT}/real --size 64
+EOF
+}
+
+# Round three's (issue 55): inputs in the folders a run writes, refused before any work; another
+# shard's results.
+round_three_cases() {
+  cat <<'EOF'
+infer/input-in-its-photo-folder|lies in|infer {OUT}/photo/photo.jpg -o {OUT}
+infer/with-fit-input-in-its-photo-folder|lies in|infer --with-fit --face-model {FX}/folder {OUT}/photo/photo.jpg -o {OUT}
+fit/input-in-its-photo-folder|lies in|fit --face-model {FX}/folder {OUT}/photo/photo.jpg -o {OUT}
+relight/photo-in-its-output-folder|lies in|relight {OUT}/photo/photo.jpg --light {FX}/light.json -o {OUT}
+relight/light-from-in-an-output-folder|lies in|relight {FX}/photo.jpg --light-from {OUT}/photo/photo.jpg -o {OUT}
+eval/shard-over-another-shard|shard 0/3|eval --model {FX}/run/weights.safetensors --data {FX}/data --shard 1/3 -o {OUT}/shard0
+eval/unsharded-over-a-shard|shard 0/3|eval --model {FX}/run/weights.safetensors --data {FX}/data -o {OUT}/shard0
 EOF
 }
 
@@ -776,6 +791,9 @@ done < <(special_files)
 while IFS='|' read -r name needle line; do
   run_table_case "$name" "$needle" "$line"
 done < <(round_two_cases)
+while IFS='|' read -r name needle line; do
+  run_table_case "$name" "$needle" "$line"
+done < <(round_three_cases)
 limit_cases
 if [[ "disk/" =~ $GROUP ]] || [[ "disk/x" =~ $GROUP ]]; then full_disk_cases; fi
 

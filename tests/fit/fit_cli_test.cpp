@@ -123,6 +123,28 @@ TEST_F(FitCliTest, InputsSharingANameGetDistinctFolders) {
   EXPECT_EQ(folders, 3) << read_text(at("log"));
 }
 
+// The same photo name fitted again after it changed from two faces to one: the second face's
+// face_1/ of the first run goes (issue 55: it stayed beside the new results).
+TEST_F(FitCliTest, ARerunWithFewerFacesRemovesTheOldFaceFolders) {
+  const RgbImage one = read_photo((dir_ / "photos" / "grace_hopper_512x512.jpg").string());
+  RgbImage two;  // the photo twice, side by side
+  two.width = 2 * one.width;
+  two.height = one.height;
+  two.pixels.resize(static_cast<size_t>(two.width) * two.height * 3);
+  for (int y = 0; y < one.height; ++y)
+    for (int half = 0; half < 2; ++half)
+      std::copy(one.at(0, y), one.at(0, y) + 3 * one.width, two.at(half * one.width, y));
+  fs::create_directories(dir_ / "again");
+  write_png_atomically((dir_ / "again" / "people.png").string(), two);
+  const std::string args = fit_args() + "--no-visibility --no-contact-sheet " + at("again/people.png") + " -o " + at("rerun");
+  ASSERT_EQ(run(args, at("log")), 0) << read_text(at("log"));
+  ASSERT_TRUE(fs::exists(dir_ / "rerun" / "people" / "face_1" / "fit.json")) << "two faces fitted";
+  write_png_atomically((dir_ / "again" / "people.png").string(), one);
+  ASSERT_EQ(run(args, at("log")), 0) << read_text(at("log"));
+  EXPECT_TRUE(fs::exists(dir_ / "rerun" / "people" / "fit.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "rerun" / "people" / "face_1")) << "the old second face's results stayed";
+}
+
 TEST_F(FitCliTest, ACorruptPhotoIsReportedAndTheOthersFitted) {
   std::ofstream(at("photos/broken.png")) << "not a png";
   const int status = run(fit_args() + "--no-visibility " + at("photos/broken.png") + " " + at("photos/astronaut.png") +

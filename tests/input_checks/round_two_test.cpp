@@ -267,7 +267,9 @@ TEST(RoundTwoNames, OutputNamesAreUniqueInEveryOrder) {
     for (size_t k = 0; k < inputs.size(); ++k) {
       const std::string stem = fs::path(inputs[k]).stem().string();
       EXPECT_EQ(names[k].rfind(stem, 0), 0u) << names[k] << " for " << inputs[k];
-      if (stem == "y" || stem == "x_3") EXPECT_EQ(names[k], stem);
+      if (stem == "y" || stem == "x_3") {
+        EXPECT_EQ(names[k], stem);
+      }
     }
     ++orders;
   } while (std::next_permutation(inputs.begin(), inputs.end()));

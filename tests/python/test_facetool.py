@@ -355,3 +355,29 @@ def test_detection_under_a_memory_limit_ends_with_a_memory_error():
     rc, out, err = _run_under_memory_limit("m = facetool.load_model()\n", code, 100)
     assert rc == 0, err
     assert out.startswith("MemoryError: out of memory while"), out + err
+
+
+@needs_photo_model
+@pytest.mark.skipif("opencl" not in facetool.backends(), reason="no OpenCL device")
+def test_opencl_model_in_a_forked_child_says_so_instead_of_hanging():
+    # OpenCL's driver threads are not copied by fork: a child's decompose never ended (issue 55).
+    # It must raise facetool.Error naming the fork; the cpu backend works in a child.
+    code = (f"import os, signal\n"
+            f"for backend in ('opencl', 'cpu'):\n"
+            f"    m = facetool.load_model(backend=backend)\n"
+            f"    m.decompose_file({PHOTO!r})\n"
+            f"    pid = os.fork()\n"
+            f"    if pid == 0:\n"
+            f"        signal.alarm(60)\n"
+            f"        try:\n"
+            f"            m.decompose_file({PHOTO!r})\n"
+            f"            print(backend, 'decomposed', flush=True)\n"
+            f"        except facetool.Error as e:\n"
+            f"            print(backend, 'Error:', e, flush=True)\n"
+            f"        os._exit(0)\n"
+            f"    os.waitpid(pid, 0)\n")
+    done = subprocess.run([os.sys.executable, "-c", "import facetool\n" + code], capture_output=True, text=True,
+                          timeout=180, env=dict(os.environ))
+    lines = done.stdout.splitlines()
+    assert any(l.startswith("opencl Error:") and "fork" in l for l in lines), done.stdout + done.stderr
+    assert "cpu decomposed" in lines, done.stdout + done.stderr

@@ -74,8 +74,12 @@ TEST(AlbedoTexture, BilinearLookUpReproducesALinearTexture) {
       EXPECT_NEAR(rgb[0], 0.1f + 0.01f * u, 1e-5f);
       EXPECT_NEAR(rgb[1], 0.2f + 0.005f * v, 1e-5f);
       EXPECT_NEAR(rgb[2], 0.4f, 1e-6f);
-      if (u < 15) EXPECT_NEAR(weight, 1.0f, 1e-6f);
-      if (u > 16) EXPECT_NEAR(weight, 0.5f, 1e-6f);
+      if (u < 15) {
+        EXPECT_NEAR(weight, 1.0f, 1e-6f);
+      }
+      if (u > 16) {
+        EXPECT_NEAR(weight, 0.5f, 1e-6f);
+      }
     }
   }
   // Outside the frame the edge texel holds.

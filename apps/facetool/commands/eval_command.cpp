@@ -155,6 +155,23 @@ std::vector<std::string> split_csv(const std::string& line) {
 
 double csv_number(const std::string& text) { return text.empty() ? NAN : std::stod(text); }
 
+// Throws facetool::Error when `out_dir` holds the results of another shard of an eval (its
+// summary.json names a shard other than `shard`, "" for an unsharded run): writing there would
+// replace them. A rerun of the same shard replaces its own results.
+void check_not_another_shards_folder(const std::string& out_dir, const std::string& shard) {
+  const std::string summary_path = (fs::path(out_dir) / "summary.json").string();
+  std::error_code ec;
+  if (!fs::is_regular_file(summary_path, ec)) return;
+  const nlohmann::json j =
+      nlohmann::json::parse(read_regular_input_file(summary_path, kMaxCsvBytes, "eval: earlier summary"), nullptr, false);
+  if (!j.is_object()) return;
+  const std::string theirs = j.contains("shard") && j["shard"].is_string() ? j["shard"].get<std::string>() : "";
+  if (theirs == shard) return;
+  fail("eval: -o '", out_dir, "' holds the results of ", theirs.empty() ? std::string("an unsharded eval") : "shard " + theirs,
+       "; writing ", shard.empty() ? std::string("an unsharded run's") : "shard " + shard + "'s",
+       " there would replace them: give each shard its own folder (then eval --merge)");
+}
+
 // `facetool eval --merge`: the shards' per-image rows, in file order, and their summary.
 int merge_shards(const std::vector<std::string>& shards, const std::string& out_dir) {
   std::vector<ImageResult> results;
@@ -316,6 +333,8 @@ int run_eval(CommandContext& context, const std::vector<std::string>& args) {
   int shard_index = 0, shard_count = 1;
   parse_shard(shard, shard_index, shard_count);
   if (batch < 1) throw UsageError("eval: --batch must be at least 1");
+  check_not_another_shards_folder(
+      out_dir, shard_count > 1 ? std::to_string(shard_index) + "/" + std::to_string(shard_count) : "");
   // A sample that cannot be read (a dangling link, a link loop, a pipe) is refused, not skipped:
   // the figures would silently be of fewer samples.
   std::vector<std::string> problems;

@@ -15,6 +15,7 @@
 #include "libs/fit/photo_fit.h"
 #include "core/util/shard.h"
 #include "core/util/error.h"
+#include "core/util/file_checks.h"
 #include "core/util/folder_lock.h"
 #include "core/util/output_names.h"
 #include "core/util/progress_bar.h"
@@ -105,6 +106,11 @@ int run_fit(CommandContext&, const std::vector<std::string>& args) {
   std::vector<PhotoJob> jobs;
   const std::vector<std::string> stems = unique_output_names(files);
   for (size_t k = 0; k < files.size(); ++k) jobs.push_back({files[k], (fs::path(out_dir) / stems[k]).string(), {}});
+  {
+    std::vector<std::string> folders;
+    for (const PhotoJob& job : jobs) folders.push_back(job.folder);
+    check_inputs_outside_output_folders(files, folders, "-o " + out_dir);
+  }
   int shard_index = 0, shard_count = 1;
   parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
   if (shard_count > 1) {

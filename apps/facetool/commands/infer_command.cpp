@@ -116,6 +116,11 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
                                    files);
   // Output names come from the whole list, so shards write what one run writes.
   std::vector<std::string> stems = unique_output_names(files);
+  if (!aligned) {  // each photo's folder <-o>/<name>/ (its fit/ too) holds no input
+    std::vector<std::string> folders;
+    for (const std::string& stem : stems) folders.push_back((fs::path(out_dir) / stem).string());
+    check_inputs_outside_output_folders(files, folders, "-o " + out_dir);
+  }
   int shard_index = 0, shard_count = 1;
   parse_shard(values["shard"].as<std::string>(), shard_index, shard_count);
   if (shard_count > 1) {

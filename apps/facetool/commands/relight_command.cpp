@@ -163,7 +163,14 @@ int run_relight(CommandContext& context, const std::vector<std::string>& args) {
   const std::vector<std::string> photos = expand_photo_inputs(values["photos"].as<std::vector<std::string>>());
   const fs::path out_dir = values["output"].as<std::string>();
 
-  // Everything that can be checked before any network pass: the light files.
+  // Everything that can be checked before any network pass: no input (a photo, --light-from's)
+  // in a folder this run writes, and the light files.
+  {
+    std::vector<std::string> inputs = photos, folders;
+    if (values.count("light-from")) inputs.push_back(values["light-from"].as<std::string>());
+    for (const std::string& stem : unique_output_names(photos)) folders.push_back((out_dir / stem).string());
+    check_inputs_outside_output_folders(inputs, folders, "-o " + out_dir.string());
+  }
   std::optional<sh::RgbLight> file_light;
   if (!values.count("light-from")) file_light = light_from_file_options(values);
 
