@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -298,7 +299,13 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
       const double a = in.albedo[c * plane + p];
       px.albedo[c] = smooth[c * plane + p] > 1e-4 ? a / smooth[c * plane + p] * mean_albedo[c] : 0.0;
     }
-    const sh::Vec3 n{in.normal[p], in.normal[plane + p], in.normal[2 * plane + p]};
+    static const double exp_nx = std::getenv("FT_EXP_NX") ? std::atof(std::getenv("FT_EXP_NX")) : 1.0;
+    static const double exp_ny = std::getenv("FT_EXP_NY") ? std::atof(std::getenv("FT_EXP_NY")) : 1.0;
+    sh::Vec3 n{in.normal[p] * exp_nx, in.normal[plane + p] * exp_ny, in.normal[2 * plane + p]};
+    {
+      const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (l > 0) for (double& c : n) c /= l;
+    }
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(top < kSaturated) || !(lum > kBlack) || !(len > 1e-6) || !std::isfinite(len)) continue;
     sh::ShCoeffs v;
