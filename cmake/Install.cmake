@@ -3,7 +3,7 @@
 # models, and the SDK (headers, CMake package, pkg-config); cpack -G DEB makes the packages
 # facetool (runtime) and facetool-dev (the SDK). Layout under the prefix:
 #   bin/facetool  lib/libfacetool_core.so  lib/libfacetool.so  lib/facetool/<backend modules, the OpenImageIO module>
-#   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  share/facetool/dlib/ (dlib's HOG
+#   lib/facetool/plugins/*.ftplugin.so  share/facetool/models/  share/facetool/lights/  share/facetool/dlib/ (dlib's HOG
 #   face detector decoded at build time and its landmark model as plain arrays:
 #   libs/face/CMakeLists.txt)  include/facetool/{core,libs}/...
 #   lib/cmake/facetool/  lib/pkgconfig/facetool.pc
@@ -71,6 +71,10 @@ endif()
 # The shipped model (models/*.safetensors), which infer, relight, pseudo-label and eval load by default.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/ DESTINATION share/facetool/models
         COMPONENT runtime FILES_MATCHING PATTERN "*.safetensors" PATTERN "README.md")
+# The shipped light files (lights/*.json: the SH lights of CC0 HDR maps, scripts/make-lights.sh),
+# for `relight --light`; the view page embeds them as presets at build time.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/lights/ DESTINATION share/facetool/lights
+        COMPONENT runtime FILES_MATCHING PATTERN "*.json" PATTERN "README.md")
 # dlib's HOG face detector as the build decoded it, and the copy of its landmark model when the
 # build had the model to copy (libs/face/CMakeLists.txt).
 install(FILES ${CMAKE_BINARY_DIR}/share/facetool/dlib/frontal_face_detector.dat

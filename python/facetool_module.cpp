@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -24,6 +25,10 @@
 #include "libs/photo/photo_pipeline.h"
 #include "libs/photo/relight_pipeline.h"
 #include "libs/photo/session.h"
+#include "libs/view/view_from_photo.h"
+#include "libs/view/view_page.h"
+#include "libs/view/view_presets.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/memory_budget.h"
 #include "core/util/image_limits.h"
@@ -156,7 +161,18 @@ struct Face {
 
 struct Photo {
   SharedPhoto photo;
+  double feather = 3.0;   // the paste-back's, as infer's faces.json records them (for the view page)
+  bool forehead = false;  // the face region, resolved
 };
+
+// The view page (libs/view) of `photo`, titled by its source's file name (as infer names its
+// folder) or "photo": what `facetool view` writes for infer's folder of the same photo.
+std::string view_page(const Photo& p) {
+  std::string name = std::filesystem::path(p.photo->path).stem().string();
+  if (name.empty()) name = "photo";
+  const view::ViewPhoto photo = view::view_photo_from(*p.photo, name, p.feather, p.forehead);
+  return view::view_page_html(photo, view::page_presets(photo, {}));
+}
 
 class Model;
 
@@ -217,7 +233,8 @@ class Model {
     const std::string task = "decomposing a " + std::to_string(image.width) + " x " + std::to_string(image.height) + " photo";
     const uint64_t bytes = static_cast<uint64_t>(image.width) * image.height * 47 * sizeof(float);  // photo_pipeline's layers
     return naming_out_of_memory(task, bytes, [&] {
-      return Photo{std::make_shared<const DecomposedPhoto>(session_->decompose(std::move(image), source, options))};
+      return Photo{std::make_shared<const DecomposedPhoto>(session_->decompose(std::move(image), source, options)),
+                   options.feather, session_->framed(options).extends_forehead()};
     });
   }
 
@@ -362,6 +379,23 @@ PYBIND11_MODULE(_facetool, m) {
       .def_property_readonly("reconstruction", [](const Photo& p) {
             return hwc_array(p.photo->layers.reconstruction.data(), 3, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 3) re-rendered faces pasted back, premultiplied.")
+      .def("view_html", [](const Photo& p) {
+             std::string html;
+             {
+               py::gil_scoped_release release;
+               html = view_page(p);
+             }
+             return py::bytes(html);
+           },
+           "The self-contained view page of this photo (docs/viewer.md) as UTF-8 bytes: the page `facetool view`\n"
+           "writes for infer's folder of the same photo.")
+      .def("write_view", [](const Photo& p, const std::string& path) {
+             checked_path(path, "path");
+             py::gil_scoped_release release;
+             const std::string html = view_page(p);
+             write_file_atomically(path, html.data(), html.size());
+           },
+           py::arg("path"), "Writes view_html() to `path` (atomically: a temporary file renamed).")
       .def("__len__", [](const Photo& p) { return p.photo->crops.size(); })
       .def("__repr__", [](const Photo& p) {
         return "<facetool.Photo " + std::to_string(p.photo->photo.width) + "x" + std::to_string(p.photo->photo.height) +

@@ -82,6 +82,38 @@ std::vector<unsigned char> encode_layer_png(const std::string& path, RgbImage la
   return encode_png8(path, layer.width, layer.height, 3, bytes.data());
 }
 
+// One of the photo-level layer pictures ("albedo", "shading", "reconstruction": linear colours;
+// "normal": premultiplied (n + 1) / 2; "visibility": the ambient term over the open sphere's).
+std::vector<unsigned char> layer_png(const std::string& path, const std::string& layer, const DecomposedPhoto& photo,
+                                     const std::vector<uint8_t>& input_srgb8, bool transparent) {
+  const PhotoLayers& layers = photo.layers;
+  const std::vector<float>& alpha = layers.alpha;
+  const int w = photo.photo.width, h = photo.photo.height;
+  const size_t plane = alpha.size();
+  if (layer == "normal") {
+    RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h);
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
+        normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
+    return encode_layer_png(path, std::move(normal_png), photo.photo, input_srgb8, alpha, transparent, false);
+  }
+  if (layer == "visibility") {
+    RgbImage visibility_png;
+    visibility_png.width = w;
+    visibility_png.height = h;
+    visibility_png.pixels.resize(plane * 3);
+    const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
+    for (size_t p = 0; p < plane; ++p)
+      for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
+    return encode_layer_png(path, std::move(visibility_png), photo.photo, input_srgb8, alpha, transparent, false);
+  }
+  const std::vector<float>* planar = layer == "albedo" ? &layers.albedo
+                                     : layer == "shading" ? &layers.shading
+                                     : layer == "reconstruction" ? &layers.reconstruction : nullptr;
+  check(planar != nullptr, "photo files: no layer picture '", layer, "'");
+  return encode_layer_png(path, rgb_from_planar(planar->data(), w, h), photo.photo, input_srgb8, alpha, transparent, true);
+}
+
 // A file to encode: its path and the function that makes its bytes.
 struct EncodeJob {
   std::string path;
@@ -142,9 +174,13 @@ void light_solve_json(std::ostream& o, const DistantLight& solve, const sh::RgbL
 }
 
 std::string faces_json(const std::string& source, const std::vector<FaceCrop>& crops,
-                       const std::vector<sh::RgbLight>& photo_lights, const std::vector<DistantLight>& solves) {
+                       const std::vector<sh::RgbLight>& photo_lights, const std::vector<DistantLight>& solves,
+                       const PhotoInferOptions& options) {
   std::ostringstream o;
-  o << std::setprecision(9) << "{\n  \"source\": \"" << source << "\",\n  \"faces\": [";
+  // face_region and feather: the paste-back mask as used (--face-region resolved, --feather), for view.
+  o << std::setprecision(9) << "{\n  \"source\": \"" << source << "\",\n  \"face_region\": \""
+    << (options.extends_forehead() ? "forehead" : "hull") << "\", \"feather\": " << options.feather
+    << ",\n  \"faces\": [";
   for (size_t k = 0; k < crops.size(); ++k) {
     const FaceCrop& c = crops[k];
     const Similarity2& t = c.alignment.photo_to_crop;
@@ -171,6 +207,11 @@ std::string faces_json(const std::string& source, const std::vector<FaceCrop>& c
 
 }  // namespace
 
+std::vector<unsigned char> encode_photo_layer_png(const DecomposedPhoto& photo, const std::string& layer) {
+  const std::vector<uint8_t> input_srgb8 = photo_srgb8(photo.photo, photo.layers.alpha);
+  return layer_png(layer + ".png", layer, photo, input_srgb8, false);
+}
+
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options) {
   const Decomposition& d = photo.decomposition;
   const PhotoLayers& layers = photo.layers;
@@ -188,7 +229,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   }
 
   auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
-  const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights, photo.decomposition.light_solve);
+  const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights, photo.decomposition.light_solve, options);
   write_file_atomically(at("faces.json"), json.data(), json.size());
   // The photo-level pictures, each made and encoded by a job (the largest first), then written.
   const RgbImage& input = photo.photo;
@@ -215,31 +256,10 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
     return encode_exr(at("photo.exr"), w, h, channels,
                       {{"facetool:source", photo.path}, {"facetool:faces", std::to_string(n)}});
   }});
-  const std::pair<const char*, const std::vector<float>*> colour_layers[] = {
-      {"albedo.png", &layers.albedo}, {"shading.png", &layers.shading}, {"reconstruction.png", &layers.reconstruction}};
-  for (const auto& [name, planar] : colour_layers)
-    jobs.push_back({at(name), [&, name = name, planar = planar] {
-      return encode_layer_png(at(name), rgb_from_planar(planar->data(), w, h), input, input_srgb8, alpha, transparent,
-                              true);
-    }});
-  jobs.push_back({at("normal.png"), [&] {
-    RgbImage normal_png = rgb_from_planar(layers.normal.data(), w, h);
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c)  // premultiplied (n + 1) / 2
-        normal_png.pixels[p * 3 + c] = 0.5f * (normal_png.pixels[p * 3 + c] + alpha[p]);
-    return encode_layer_png(at("normal.png"), std::move(normal_png), input, input_srgb8, alpha, transparent, false);
-  }});
-  jobs.push_back({at("visibility.png"), [&] {
-    RgbImage visibility_png;
-    visibility_png.width = w;
-    visibility_png.height = h;
-    visibility_png.pixels.resize(plane * 3);
-    const float unoccluded = static_cast<float>(2.0 * std::sqrt(kPi));
-    for (size_t p = 0; p < plane; ++p)
-      for (int c = 0; c < 3; ++c) visibility_png.pixels[p * 3 + c] = layers.visibility[p] / unoccluded;
-    return encode_layer_png(at("visibility.png"), std::move(visibility_png), input, input_srgb8, alpha, transparent,
-                            false);
-  }});
+  for (const char* layer : {"albedo", "shading", "reconstruction", "normal", "visibility"}) {
+    const std::string path = at(std::string(layer) + ".png");
+    jobs.push_back({path, [&, layer, path] { return layer_png(path, layer, photo, input_srgb8, transparent); }});
+  }
   if (options.contact_sheet)
     jobs.push_back({at("contact_sheet.png"), [&] {
       const int width = sheet_rows[0].width;

@@ -16,6 +16,10 @@ namespace facetool {
 // and, with options.contact_sheet, contact_sheet.png.
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options);
 
+// The bytes of one photo-level layer PNG as write_photo_files writes it over the photo (not
+// transparent): `layer` is "albedo", "shading", "reconstruction", "normal" or "visibility".
+std::vector<unsigned char> encode_photo_layer_png(const DecomposedPhoto& photo, const std::string& layer);
+
 
 // Runs every photo `photos[k]` into <out_dir>/<folders[k]>/; a photo that cannot be read or has
 // no face gets a line on stderr and the run goes on. Returns the number of such photos. Each

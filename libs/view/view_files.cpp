@@ -10,6 +10,7 @@
 #include "core/util/error.h"
 #include "core/util/file_checks.h"
 #include "libs/view/view_page.h"
+#include "libs/view/view_presets.h"
 
 namespace fs = std::filesystem;
 
@@ -81,14 +82,11 @@ int write_view_pages(const std::vector<std::string>& folders, const std::string&
       const ViewPhoto photo = read_view_photo(folder, options);
       if (photo.mask_mismatch > 1e-3)
         std::cerr << "view: " << folder << ": the page's paste-back mask differs from infer's by up to "
-                  << photo.mask_mismatch << " (coverage); give view the --feather and --face-region infer was run with\n";
-      std::vector<LightPreset> presets;
-      for (size_t k = 0; k < photo.faces.size(); ++k)
-        presets.push_back({"this photo, face " + std::to_string(k), photo.faces[k].photo_light});
-      for (const LightPreset& p : lights)
-        if (p.name != "light of " + photo.name) presets.push_back(p);
+                  << photo.mask_mismatch << " (coverage)"
+                  << (photo.mask_recorded ? "; the folder's files do not agree, run infer again\n"
+                                          : "; give view the --feather and --face-region infer was run with\n");
       const fs::path page = fs::path(folder) / "view.html";
-      write_text(page.string(), view_page_html(photo, presets));
+      write_text(page.string(), view_page_html(photo, page_presets(photo, lights)));
       if (!index_path.empty())
         entries.push_back({photo.name, relative_url(page, fs::path(index_path).parent_path()), thumbnail_png(photo, 160)});
     } catch (const Error& e) {

@@ -19,8 +19,6 @@ namespace fs = std::filesystem;
 namespace facetool::view {
 namespace {
 
-constexpr int kMaxFaces = 12;  // texture units of one WebGL2 pass
-
 std::string at(const std::string& folder, const std::string& name) { return (fs::path(folder) / name).string(); }
 
 // A file infer writes in every photo folder; its absence means this is not one (or a damaged one).
@@ -84,6 +82,43 @@ std::vector<Point2> crop_polygon(const ViewFace& face, bool forehead) {
 
 }  // namespace
 
+double mask_mismatch(const ViewPhoto& photo, bool forehead) {
+  std::vector<PasteRegion> regions;
+  for (const ViewFace& face : photo.faces)
+    regions.push_back(paste_region(photo.width, photo.height, face.photo_to_crop, face.crop_size,
+                                   crop_polygon(face, forehead), photo.feather));
+  return largest_difference(coverage(regions, photo.width, photo.height), photo.alpha);
+}
+
+void set_face_geometry(ViewPhoto& photo, bool forehead) {
+  photo.mask_shape = forehead ? "forehead" : "hull";
+  for (ViewFace& face : photo.faces) {
+    // A light's coefficients from the photo's frame into the crop's: relight turns the new light
+    // by the inverse of the crop-to-photo rotation; its 9x9 matrix, column i the turned basis light i.
+    const sh::Mat3 to_photo = crop_to_photo_rotation(face.photo_to_crop);
+    sh::Mat3 to_crop{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) to_crop[i][j] = to_photo[j][i];
+    for (int i = 0; i < 9; ++i) {
+      sh::RgbLight unit{};
+      unit[i] = 1.0;
+      const sh::RgbLight turned = sh::rotate_light(unit, to_crop);
+      for (int r = 0; r < 9; ++r) face.photo_to_crop_sh[r * 9 + i] = turned[r];
+    }
+    const std::vector<Point2> polygon = crop_polygon(face, forehead);
+    const PasteRegion region = paste_region(photo.width, photo.height, face.photo_to_crop, face.crop_size, polygon, 0.0);
+    face.region = {region.x0, region.y0, region.width, region.height};
+    face.mask_lines.clear();
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      // ConvexInterior's edge lines (face_mask.cpp): the signed distance, positive inside.
+      const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+      const double ex = b.x - a.x, ey = b.y - a.y, len = std::hypot(ex, ey);
+      if (len == 0) continue;
+      face.mask_lines.push_back({-ey / len, ex / len, (ey * a.x - ex * a.y) / len});
+    }
+  }
+}
+
 const std::vector<std::string>& view_layer_names() {
   static const std::vector<std::string> names = {"albedo", "normal", "shading", "visibility", "reconstruction"};
   return names;
@@ -119,8 +154,8 @@ ViewPhoto read_view_photo(const std::string& folder, const ViewOptions& options)
   if (json.contains("source") && json["source"].is_string()) out.source = json["source"].get<std::string>();
   const nlohmann::json& faces = field(json, "faces", json_path);
   check(faces.is_array() && !faces.empty(), "'", json_path, "' lists no face; infer writes a folder only for a photo with a face");
-  check(faces.size() <= static_cast<size_t>(kMaxFaces), "'", json_path, "' lists ", faces.size(),
-        " faces; the page relights at most ", kMaxFaces, " (one WebGL pass)");
+  check(faces.size() <= static_cast<size_t>(kMaxViewFaces), "'", json_path, "' lists ", faces.size(),
+        " faces; the page relights at most ", kMaxViewFaces, " (one WebGL pass)");
 
   {
     const LayeredImage photo = read_exr(exr_path);
@@ -157,18 +192,6 @@ ViewPhoto read_view_photo(const std::string& folder, const ViewOptions& options)
     const nlohmann::json& light = field(f, "light_photo_frame", json_path);
     check(light.is_array() && light.size() == 27, "'", json_path, "': light_photo_frame is not 27 numbers; run infer again");
     for (int i = 0; i < 27; ++i) face.photo_light[i] = number(light[i], json_path);
-    // A light's coefficients from the photo's frame into the crop's: relight turns the new light
-    // by the inverse of the crop-to-photo rotation; its 9x9 matrix, column i the turned basis light i.
-    const sh::Mat3 to_photo = crop_to_photo_rotation(face.photo_to_crop);
-    sh::Mat3 to_crop{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) to_crop[i][j] = to_photo[j][i];
-    for (int i = 0; i < 9; ++i) {
-      sh::RgbLight unit{};
-      unit[i] = 1.0;
-      const sh::RgbLight turned = sh::rotate_light(unit, to_crop);
-      for (int r = 0; r < 9; ++r) face.photo_to_crop_sh[r * 9 + i] = turned[r];
-    }
     const std::string face_folder = at(folder, face.folder);
     check(fs::is_directory(face_folder), "'", face_folder, "' is missing: faces.json lists it; run infer again");
     const int s = face.crop_size;
@@ -181,37 +204,31 @@ ViewPhoto read_view_photo(const std::string& folder, const ViewOptions& options)
     out.faces.push_back(std::move(face));
   }
 
-  // The mask: as asked, or (auto) the shape whose coverage is photo.exr's.
+  // The mask: as faces.json records it, else as asked, or (auto) the shape whose coverage is photo.exr's.
   std::vector<bool> shapes;
-  if (options.mask != MaskShape::kForehead) shapes.push_back(false);
-  if (options.mask != MaskShape::kHull) shapes.push_back(true);
+  if (json.contains("face_region") && json.contains("feather")) {
+    const nlohmann::json& region = json["face_region"];
+    check(region.is_string() && (region == "hull" || region == "forehead"), "'", json_path,
+          "': face_region is not \"hull\" or \"forehead\"; run infer again");
+    out.feather = number(json["feather"], json_path);
+    check(out.feather >= 0, "'", json_path, "': feather is negative; run infer again");
+    shapes.push_back(region == "forehead");
+    out.mask_recorded = true;
+  } else {
+    if (options.mask != MaskShape::kForehead) shapes.push_back(false);
+    if (options.mask != MaskShape::kHull) shapes.push_back(true);
+  }
   double best = 1e300;
   bool best_shape = false;
   for (bool forehead : shapes) {
-    std::vector<PasteRegion> regions;
-    for (const ViewFace& face : out.faces)
-      regions.push_back(paste_region(out.width, out.height, face.photo_to_crop, face.crop_size,
-                                     crop_polygon(face, forehead), options.feather));
-    const double difference = largest_difference(coverage(regions, out.width, out.height), out.alpha);
+    const double difference = mask_mismatch(out, forehead);
     if (difference < best) {
       best = difference;
       best_shape = forehead;
     }
   }
-  out.mask_shape = best_shape ? "forehead" : "hull";
   out.mask_mismatch = best;
-  for (ViewFace& face : out.faces) {
-    const std::vector<Point2> polygon = crop_polygon(face, best_shape);
-    const PasteRegion region = paste_region(out.width, out.height, face.photo_to_crop, face.crop_size, polygon, 0.0);
-    face.region = {region.x0, region.y0, region.width, region.height};
-    for (size_t i = 0; i < polygon.size(); ++i) {
-      // ConvexInterior's edge lines (face_mask.cpp): the signed distance, positive inside.
-      const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
-      const double ex = b.x - a.x, ey = b.y - a.y, len = std::hypot(ex, ey);
-      if (len == 0) continue;
-      face.mask_lines.push_back({-ey / len, ex / len, (ey * a.x - ex * a.y) / len});
-    }
-  }
+  set_face_geometry(out, best_shape);
 
   for (const std::string& layer : view_layer_names()) {
     const std::string path = at(folder, layer + ".png");

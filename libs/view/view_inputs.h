@@ -14,6 +14,10 @@ namespace facetool::view {
 // and the forehead hull reproduces the coverage stored in photo.exr).
 enum class MaskShape { kAuto, kHull, kForehead };
 
+constexpr int kMaxViewFaces = 12;  // faces a page relights: texture units of one WebGL2 pass
+
+// mask and feather: for folders whose faces.json does not record infer's --face-region and
+// --feather (older runs); a faces.json that records them is read as it says.
 struct ViewOptions {
   MaskShape mask = MaskShape::kAuto;
   double feather = 3.0;  // infer's --feather, crop pixels
@@ -43,6 +47,7 @@ struct ViewPhoto {
   int width = 0, height = 0;
   double feather = 3.0;
   std::string mask_shape;  // "hull" or "forehead", as used
+  bool mask_recorded = false;  // the mask and feather as faces.json records them (else guessed or given)
   double mask_mismatch = 0;  // largest difference of the page's coverage to photo.exr's
   std::vector<float> photo;  // linear RGB, interleaved
   std::vector<float> alpha;  // face coverage
@@ -54,6 +59,15 @@ struct ViewPhoto {
 
 // The layers the page shows from infer's PNGs, in the order of the page's menu.
 const std::vector<std::string>& view_layer_names();
+
+// The faces' paste-back geometry from their landmarks and transforms: `forehead` the mask shape
+// (infer's --face-region), photo.feather the ramp. Sets each face's region, mask_lines and the
+// turn of a light into its crop's frame; the folder reader and view_photo_from share it.
+void set_face_geometry(ViewPhoto& photo, bool forehead);
+
+// The largest difference between photo.alpha and the coverage the faces' masks (`forehead` the
+// shape, photo.feather the ramp) paste: 0 when the page's mask is infer's.
+double mask_mismatch(const ViewPhoto& photo, bool forehead);
 
 // Reads `folder` (one photo's folder of an infer run). Throws facetool::Error naming the folder
 // or file and what to do when it is not an infer output, a file is missing or damaged, or the

@@ -37,7 +37,7 @@ from ._facetool import (  # noqa: E402,F401
 
 __all__ = [
     "Error", "Face", "Model", "Photo", "backends", "decompose", "default_model_path", "light_from_direction", "light_from_dpr",
-    "light_from_sfsnet", "light_to_dpr", "light_to_sfsnet", "load_model", "read_image", "read_light", "relight",
+    "light_from_sfsnet", "light_to_dpr", "light_to_sfsnet", "load_model", "read_image", "read_light", "relight", "view",
 ]
 
 _models = {}
@@ -114,3 +114,23 @@ def relight(photo, light, model=None, backend="cpu", **options):
     """
     model = model if model is not None else _default_model(backend)
     return model.relight(photo, light, **options)
+
+
+def view(photo, path):
+    """Writes the view page of `photo` (a facetool.Photo) to `path`: the self-contained HTML page that
+    `facetool view` writes for infer's folder of the same photo (docs/viewer.md)."""
+    if not isinstance(photo, Photo):
+        raise TypeError(f"view: photo must be a facetool.Photo (from decompose()), not {type(photo).__name__}")
+    photo.write_view(_os.fspath(path))
+
+
+def _photo_repr_html(photo):
+    # Jupyter shows a Photo as its view page, inline: an iframe whose srcdoc holds the whole page
+    # (no file, no server; the page's own Content-Security-Policy still applies).
+    import html as _html
+    page = photo.view_html().decode("utf-8")
+    return ('<iframe style="width: 100%; height: 900px; border: 0" sandbox="allow-scripts allow-downloads" '
+            f'srcdoc="{_html.escape(page, quote=True)}"></iframe>')
+
+
+Photo._repr_html_ = _photo_repr_html

@@ -381,3 +381,61 @@ def test_opencl_model_in_a_forked_child_says_so_instead_of_hanging():
     lines = done.stdout.splitlines()
     assert any(l.startswith("opencl Error:") and "fork" in l for l in lines), done.stdout + done.stderr
     assert "cpu decomposed" in lines, done.stdout + done.stderr
+
+
+def _page_data(html):
+    """The data block of a view page (libs/view/page/view.html's facetool-data script)."""
+    start = html.index('id="facetool-data">') + len('id="facetool-data">')
+    return json.loads(html[start:html.index("</script>", start)])
+
+
+def _planes(face):
+    """A page face's packed crop layers decoded as the page decodes them: [18, S*S]."""
+    import base64
+    s = face["crop_size"]
+    q = np.frombuffer(base64.b64decode(face["planes"]), "<u2").reshape(18, s * s).astype(np.float64)
+    lo, hi = np.array(face["ranges"][0::2])[:, None], np.array(face["ranges"][1::2])[:, None]
+    return lo + q * (hi - lo) / 65535
+
+
+@needs_photo_model
+def test_view_page_equals_the_programs(photo):
+    """facetool.view(photo, path) writes the page `facetool view` writes for infer's folder of the same
+    photo: the same layers (PNG bytes), faces, masks, lights and presets; faces.json's landmarks and
+    transforms are printed to 9 digits, hence the tolerances on what is derived from them."""
+    exe = os.environ.get("FACETOOL_EXE")
+    if not exe:
+        pytest.skip("FACETOOL_EXE not set (run through ctest)")
+    with tempfile.TemporaryDirectory() as out:
+        subprocess.run([exe, "infer", PHOTO, "-o", out, "--no-contact-sheet", "--view"], check=True, capture_output=True)
+        program = _page_data(open(os.path.join(out, "astronaut", "view.html"), encoding="utf-8").read())
+        path = os.path.join(out, "from_python.html")
+        facetool.view(photo, path)
+        html = open(path, encoding="utf-8").read()
+    ours = _page_data(html)
+    assert html.startswith("<!DOCTYPE html>") and "facetoolView" in html
+    for key in ["name", "source", "width", "height", "feather", "mask_shape", "photo", "mask", "layers", "triple"]:
+        assert ours[key] == program[key], key
+    assert [p["name"] for p in ours["presets"]] == [p["name"] for p in program["presets"]]
+    for a, b in zip(ours["presets"], program["presets"]):
+        np.testing.assert_allclose(a["light"], b["light"], rtol=1e-6, atol=1e-7)
+    assert len(ours["faces"]) == len(program["faces"]) == len(photo.faces)
+    for a, b in zip(ours["faces"], program["faces"]):
+        for key in ["folder", "crop_size", "region"]:
+            assert a[key] == b[key], key
+        for key in ["photo_to_crop", "landmarks", "box", "mask_lines", "light", "to_crop"]:
+            np.testing.assert_allclose(np.array(a[key], float), np.array(b[key], float), rtol=1e-6, atol=1e-6, err_msg=key)
+        np.testing.assert_allclose(_planes(a), _planes(b), atol=1e-6)
+
+
+@needs_photo_model
+def test_photo_shows_its_view_page_in_a_notebook(photo):
+    """A Photo's _repr_html_ (Jupyter) is an iframe whose srcdoc holds its whole view page."""
+    import html as html_module
+    shown = photo._repr_html_()
+    assert shown.startswith("<iframe") and 'srcdoc="' in shown
+    srcdoc = html_module.unescape(shown[shown.index('srcdoc="') + 8:shown.rindex('"')])
+    assert srcdoc == photo.view_html().decode("utf-8")
+    assert _page_data(srcdoc)["width"] == photo.image.shape[1]
+    with pytest.raises(TypeError, match="facetool.Photo"):
+        facetool.view("not a photo", "x.html")

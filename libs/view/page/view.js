@@ -35,6 +35,8 @@ function linearToSrgb(v) {
   const x = Math.min(Math.max(v, 0), 1);
   return x <= 0.0031308 ? 12.92 * x : 1.055 * Math.pow(x, 1 / 2.4) - 0.055;
 }
+// 8-bit sRGB of linear values in [0, 1] at 1/4096 steps: for the small spheres, drawn often.
+const SRGB8 = Uint8Array.from({ length: 4097 }, (_, i) => Math.round(255 * linearToSrgb(i / 4096)));
 
 // Each face's packed crop layers as float planes: normal xyz, visibility 0..8, albedo rgb, shading rgb.
 function unpackFace(face) {
@@ -123,23 +125,18 @@ function glFloat(value) {
   return /[.eE]/.test(text) ? text : text + '.0';
 }
 
-// relight's paste-back (paste_back.cpp) of every face, in order, at one photo pixel, then the
-// mode's last step: 0 the pasted value as it is, 1 sRGB-encoded, 2 photo x guarded ratio to u_old.
-function pasteShader(faces, maxLines) {
-  let samplers = '', calls = '';
-  faces.forEach((face, k) => {
-    samplers += `uniform sampler2D u_crop${k};\n`;
-    calls += `  acc = pasteFace(u_crop${k}, ${k}, p, acc);\n`;
-  });
+// The per-pixel work that does not depend on the light, done once at the size of the faces'
+// union box U (rows bottom up, as the framebuffer's): the photo decoded to linear RGB, and each
+// face's paste-back weight from its mask's edges (paste_back.cpp), four faces per texture.
+function prepareShader(faceCount, maxLines) {
   return `#version 300 es
 precision highp float; precision highp int; precision highp sampler2D;
-${samplers}uniform sampler2D u_photo; uniform sampler2D u_old; uniform sampler2D u_lines;
-uniform vec4 u_t[${faces.length}]; uniform int u_crop_size[${faces.length}]; uniform int u_line_count[${faces.length}];
-uniform float u_feather; uniform float u_epsilon; uniform int u_height; uniform int u_base; uniform int u_out;
+uniform sampler2D u_photo; uniform sampler2D u_lines;
+uniform vec4 u_t[${faceCount}]; uniform int u_line_count[${faceCount}];
+uniform float u_feather; uniform ivec4 u_union; uniform int u_first; uniform int u_out;
 out vec4 o;
 float toLinear(float v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
-float toSrgb(float v) { float x = clamp(v, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
-vec3 pasteFace(sampler2D crop, int k, vec2 p, vec3 acc) {
+float weight(int k, vec2 p) {
   vec4 t = u_t[k];
   vec2 c = vec2(t.x * p.x - t.y * p.y + t.z, t.y * p.x + t.x * p.y + t.w);
   float depth = 1e30;
@@ -147,10 +144,50 @@ vec3 pasteFace(sampler2D crop, int k, vec2 p, vec3 acc) {
     if (e >= u_line_count[k]) break;
     vec3 l = texelFetch(u_lines, ivec2(e, k), 0).xyz;
     float side = l.x * c.x + l.y * c.y + l.z;
-    if (side <= 0.0) return acc;
+    if (side <= 0.0) return 0.0;
     depth = min(depth, side);
   }
-  float a = u_feather > 0.0 ? clamp(depth / u_feather, 0.0, 1.0) : 1.0;
+  return u_feather > 0.0 ? clamp(depth / u_feather, 0.0, 1.0) : 1.0;
+}
+void main() {
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  ivec2 pi = ivec2(u_union.x + q.x, u_union.y + u_union.w - 1 - q.y);
+  if (u_out == 0) {
+    vec3 s = texelFetch(u_photo, pi, 0).rgb;
+    o = vec4(toLinear(s.r), toLinear(s.g), toLinear(s.b), 1.0);
+    return;
+  }
+  vec4 w = vec4(0.0);
+  for (int i = 0; i < 4; ++i) if (u_first + i < ${faceCount}) w[i] = weight(u_first + i, vec2(pi));
+  o = w;
+}`;
+}
+
+// relight's paste-back of every face, in order, at one pixel of U (bilinear in the crop, blended
+// with the prepared weight), then the mode's last step: 0 the pasted value as it is, 1 sRGB-encoded,
+// 2 photo x guarded ratio to u_old. u_origin: where U's first row and column are in gl_FragCoord.
+function pasteShader(faceCount) {
+  let samplers = '', calls = '';
+  for (let k = 0; k < faceCount; ++k) {
+    samplers += `uniform sampler2D u_crop${k};\n`;
+    calls += `  acc = pasteFace(u_crop${k}, ${k}, w${k >> 2}[${k & 3}], p, acc);\n`;
+  }
+  let weights = '';
+  for (let g = 0; g < Math.ceil(faceCount / 4); ++g)
+    weights += `  vec4 w${g} = texelFetch(u_weights${g}, q, 0);\n`;
+  const weightSamplers = Array.from({ length: Math.ceil(faceCount / 4) }, (_, g) => `uniform sampler2D u_weights${g};`).join(' ');
+  return `#version 300 es
+precision highp float; precision highp int; precision highp sampler2D;
+${samplers}${weightSamplers}
+uniform sampler2D u_linear; uniform sampler2D u_old;
+uniform vec4 u_t[${faceCount}]; uniform int u_crop_size[${faceCount}];
+uniform float u_epsilon; uniform ivec4 u_union; uniform ivec2 u_origin; uniform int u_base; uniform int u_out;
+out vec4 o;
+float toSrgb(float v) { float x = clamp(v, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
+vec3 pasteFace(sampler2D crop, int k, float a, vec2 p, vec3 acc) {
+  if (a <= 0.0) return acc;
+  vec4 t = u_t[k];
+  vec2 c = vec2(t.x * p.x - t.y * p.y + t.z, t.y * p.x + t.x * p.y + t.w);
   int s = u_crop_size[k];
   float cx = clamp(c.x, 0.0, float(s - 1)), cy = clamp(c.y, 0.0, float(s - 1));
   int x0 = min(int(cx), s - 1), y0 = min(int(cy), s - 1);
@@ -162,21 +199,27 @@ vec3 pasteFace(sampler2D crop, int k, vec2 p, vec3 acc) {
   return a * v + (1.0 - a) * acc;
 }
 void main() {
-  ivec2 pi = ivec2(int(gl_FragCoord.x), u_height - 1 - int(gl_FragCoord.y));
-  vec2 p = vec2(pi);
-  vec3 s = texelFetch(u_photo, pi, 0).rgb;
-  vec3 photo = vec3(toLinear(s.r), toLinear(s.g), toLinear(s.b));
+  ivec2 q = ivec2(gl_FragCoord.xy) - u_origin;
+  vec2 p = vec2(float(u_union.x + q.x), float(u_union.y + u_union.w - 1 - q.y));
+${weights}  // No face here: the canvas keeps the photo drawn at the start (both modes give the photo).
+  if (u_out != 0 && ${Array.from({ length: Math.ceil(faceCount / 4) }, (_, g) => `dot(w${g}, vec4(1.0)) <= 0.0`).join(' && ')}) discard;
+  vec3 photo = texelFetch(u_linear, q, 0).rgb;
   vec3 acc = u_base == 0 ? photo : vec3(1.0);
 ${calls}  if (u_out == 0) { o = vec4(acc, 1.0); return; }
   vec3 result = acc;
   if (u_out == 2) {
-    // u_old was drawn by this shader too: its rows are the framebuffer's (bottom up).
-    vec3 old = texelFetch(u_old, ivec2(gl_FragCoord.xy), 0).rgb;
+    vec3 old = texelFetch(u_old, q, 0).rgb;
     result = photo * ((max(acc, 0.0) + u_epsilon) / (max(old, 0.0) + u_epsilon));
   }
   o = vec4(toSrgb(result.r), toSrgb(result.g), toSrgb(result.b), 1.0);
 }`;
 }
+
+// The photo's sRGB bytes as they are, for the canvas outside the faces (drawn once).
+const COPY = `#version 300 es
+precision highp float; precision highp sampler2D;
+uniform sampler2D u_photo; uniform int u_height; out vec4 o;
+void main() { o = vec4(texelFetch(u_photo, ivec2(int(gl_FragCoord.x), u_height - 1 - int(gl_FragCoord.y)), 0).rgb, 1.0); }`;
 
 function compile(gl, vertex, fragment) {
   const program = gl.createProgram();
@@ -202,6 +245,15 @@ function floatTexture(gl, width, height, pixels) {
   return texture;
 }
 
+function targetTexture(gl, width, height) {
+  const texture = floatTexture(gl, width, height, null), fbo = gl.createFramebuffer();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+  gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, texture, 0);
+  return { texture, fbo };
+}
+
+// The relit photo in a WebGL2 canvas shown as it is. A frame: per face the crop pass, then the
+// paste pass over the faces' regions only (the rest of the canvas is the photo, drawn once).
 class Relighter {
   constructor(canvas, photoImage, faces, planes) {
     const gl = canvas.getContext('webgl2', { preserveDrawingBuffer: true, antialias: false, premultipliedAlpha: false });
@@ -211,28 +263,61 @@ class Relighter {
     this.w = canvas.width = data.width;
     this.h = canvas.height = data.height;
     this.faces = faces;
+    this.uniforms = new Map();
     const buffer = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STATIC_DRAW);
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
-    this.crop = compile(gl, VERTEX, cropShader(data.triple));
     const maxLines = Math.max(...faces.map((f) => f.mask_lines.length));
-    this.paste = compile(gl, VERTEX, pasteShader(faces, maxLines));
+    this.crop = compile(gl, VERTEX, cropShader(data.triple));
+    this.paste = compile(gl, VERTEX, pasteShader(faces.length));
+    const prepare = compile(gl, VERTEX, prepareShader(faces.length, maxLines)), copy = compile(gl, VERTEX, COPY);
+
+    // U, the box around every face's region (photo pixels, top-down rows).
+    const x0 = Math.min(...faces.map((f) => f.region[0])), y0 = Math.min(...faces.map((f) => f.region[1]));
+    const x1 = Math.max(...faces.map((f) => f.region[0] + f.region[2]));
+    const y1 = Math.max(...faces.map((f) => f.region[1] + f.region[3]));
+    this.union = [x0, y0, Math.max(1, x1 - x0), Math.max(1, y1 - y0)];
+    const [uw, uh] = [this.union[2], this.union[3]];
 
     gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
     gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
-    this.photo = gl.createTexture();
-    gl.bindTexture(gl.TEXTURE_2D, this.photo);
+    const photo = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, photo);
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, photoImage);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
     const lines = new Float32Array(maxLines * faces.length * 4);
     faces.forEach((f, k) => f.mask_lines.forEach((l, e) => lines.set([l[0], l[1], l[2], 1], 4 * (k * maxLines + e))));
-    this.lines = floatTexture(gl, maxLines, faces.length, lines);
+    const lineTexture = floatTexture(gl, maxLines, faces.length, lines);
+
+    // Once: the photo in linear RGB and the faces' weights over U, then the estimated shading
+    // (infer's, pasted over 1) for the ratio mode.
+    this.linear = targetTexture(gl, uw, uh);
+    this.weights = [];
+    for (let first = 0; first < faces.length; first += 4) this.weights.push(targetTexture(gl, uw, uh));
+    gl.useProgram(prepare);
+    // (Textures are bound after every texture is made: making one binds it to the active unit.)
+    this.bind(prepare, [['u_photo', photo], ['u_lines', lineTexture]]);
+    const u = (name) => this.uniform(prepare, name);
+    gl.uniform4fv(u('u_t'), faces.flatMap((f) => f.photo_to_crop));
+    gl.uniform1iv(u('u_line_count'), faces.map((f) => f.mask_lines.length));
+    gl.uniform1f(u('u_feather'), data.feather);
+    gl.uniform4iv(u('u_union'), this.union);
+    gl.viewport(0, 0, uw, uh);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.linear.fbo);
+    gl.uniform1i(u('u_out'), 0);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    this.weights.forEach((target, g) => {
+      gl.bindFramebuffer(gl.FRAMEBUFFER, target.fbo);
+      gl.uniform1i(u('u_first'), 4 * g);
+      gl.uniform1i(u('u_out'), 1);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    });
 
     this.inputs = [];
     this.outputs = [];
-    this.olds = [];
+    const olds = [];
     faces.forEach((face, k) => {
       const s = face.crop_size, plane = s * s, p = planes[k];
       const packed = new Float32Array(plane * 16), old = new Float32Array(plane * 4);
@@ -243,53 +328,72 @@ class Relighter {
       }));
       for (let i = 0; i < plane; ++i) old.set([p[15][i], p[16][i], p[17][i], 1], 4 * i);
       this.inputs.push(floatTexture(gl, s, 4 * s, packed));
-      this.olds.push(floatTexture(gl, s, s, old));
-      const target = floatTexture(gl, s, s, null), fbo = gl.createFramebuffer();
-      gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
-      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
-      this.outputs.push({ texture: target, fbo });
+      olds.push(floatTexture(gl, s, s, old));
+      this.outputs.push(targetTexture(gl, s, s));
     });
-    // The estimated shading at the photo's size, once: infer's shading pasted over 1.
-    this.old = floatTexture(gl, this.w, this.h, null);
-    this.oldFbo = gl.createFramebuffer();
-    gl.bindFramebuffer(gl.FRAMEBUFFER, this.oldFbo);
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.old, 0);
-    this.runPaste(this.olds, 1, 0, this.oldFbo);
+    this.old = targetTexture(gl, uw, uh);
+    this.runPaste(olds, 1, 0, this.old.fbo, [0, 0], null);
+
+    // The canvas: the photo everywhere, once.
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, this.w, this.h);
+    gl.useProgram(copy);
+    this.bind(copy, [['u_photo', photo]]);
+    gl.uniform1i(this.uniform(copy, 'u_height'), this.h);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
 
-  runPaste(crops, base, out, fbo) {
-    const gl = this.gl, program = this.paste;
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
-    gl.viewport(0, 0, this.w, this.h);
-    gl.useProgram(program);
-    const u = (name) => gl.getUniformLocation(program, name);
-    let unit = 0;
-    const bind = (name, texture) => {
+  uniform(program, name) {
+    let perProgram = this.uniforms.get(program);
+    if (!perProgram) this.uniforms.set(program, (perProgram = new Map()));
+    if (!perProgram.has(name)) perProgram.set(name, this.gl.getUniformLocation(program, name));
+    return perProgram.get(name);
+  }
+
+  bind(program, textures) {
+    const gl = this.gl;
+    textures.forEach(([name, texture], unit) => {
       gl.activeTexture(gl.TEXTURE0 + unit);
       gl.bindTexture(gl.TEXTURE_2D, texture);
-      gl.uniform1i(u(name), unit++);
-    };
-    bind('u_photo', this.photo);
-    // The estimated shading is not read while it is the pass's own target (the first pass).
-    bind('u_old', fbo === this.oldFbo ? this.photo : this.old);
-    bind('u_lines', this.lines);
-    crops.forEach((texture, k) => bind('u_crop' + k, texture));
+      gl.uniform1i(this.uniform(program, name), unit);
+    });
+  }
+
+  // The paste pass into `fbo` (null: the canvas), U's first pixel at `origin` of the target;
+  // `scissors`: the boxes of the target drawn (null: all of U).
+  runPaste(crops, base, out, fbo, origin, scissors) {
+    const gl = this.gl, program = this.paste, u = (name) => this.uniform(program, name);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+    gl.viewport(origin[0], origin[1], this.union[2], this.union[3]);
+    gl.useProgram(program);
+    const textures = [['u_linear', this.linear.texture], ['u_old', fbo === this.old.fbo ? this.linear.texture : this.old.texture]];
+    this.weights.forEach((target, g) => textures.push(['u_weights' + g, target.texture]));
+    crops.forEach((texture, k) => textures.push(['u_crop' + k, texture]));
+    this.bind(program, textures);
     gl.uniform4fv(u('u_t'), this.faces.flatMap((f) => f.photo_to_crop));
     gl.uniform1iv(u('u_crop_size'), this.faces.map((f) => f.crop_size));
-    gl.uniform1iv(u('u_line_count'), this.faces.map((f) => f.mask_lines.length));
-    gl.uniform1f(u('u_feather'), data.feather);
     gl.uniform1f(u('u_epsilon'), 0.02);
-    gl.uniform1i(u('u_height'), this.h);
+    gl.uniform4iv(u('u_union'), this.union);
+    gl.uniform2iv(u('u_origin'), origin);
     gl.uniform1i(u('u_base'), base);
     gl.uniform1i(u('u_out'), out);
-    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    if (!scissors) {
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      return;
+    }
+    gl.enable(gl.SCISSOR_TEST);
+    for (const [x, y, w, h] of scissors) {
+      gl.scissor(x, y, w, h);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    }
+    gl.disable(gl.SCISSOR_TEST);
   }
 
   // Renders every face under `light` (27 coefficients, photo frame) and pastes them into the canvas.
   render(light, mode, visibility) {
-    const gl = this.gl, render = mode === 'render' ? 1 : 0;
-    gl.useProgram(this.crop);
-    const u = (name) => gl.getUniformLocation(this.crop, name);
+    const gl = this.gl, render = mode === 'render' ? 1 : 0, program = this.crop;
+    const u = (name) => this.uniform(program, name);
+    gl.useProgram(program);
     this.faces.forEach((face, k) => {
       const s = face.crop_size, m = face.to_crop, cropLight = new Float32Array(27);
       for (let c = 0; c < 3; ++c)
@@ -300,27 +404,17 @@ class Relighter {
         }
       gl.bindFramebuffer(gl.FRAMEBUFFER, this.outputs[k].fbo);
       gl.viewport(0, 0, s, s);
-      gl.activeTexture(gl.TEXTURE0);
-      gl.bindTexture(gl.TEXTURE_2D, this.inputs[k]);
-      gl.uniform1i(u('u_in'), 0);
+      this.bind(program, [['u_in', this.inputs[k]]]);
       gl.uniform1i(u('u_size'), s);
       gl.uniform1fv(u('u_light[0]'), cropLight);
       gl.uniform1i(u('u_render'), render);
       gl.uniform1i(u('u_visibility'), visibility ? 1 : 0);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     });
-    // Outside the faces' regions both modes give the photo: drawn once, then only the regions.
-    if (this.drawn) {
-      gl.enable(gl.SCISSOR_TEST);
-      for (const [x, y, w, h] of this.faces.map((f) => f.region)) {
-        gl.scissor(x, this.h - y - h, w, h);
-        this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null);
-      }
-      gl.disable(gl.SCISSOR_TEST);
-    } else {
-      this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null);
-      this.drawn = true;
-    }
+    // Outside the faces' regions both modes give the photo, already there: only the regions are drawn.
+    const origin = [this.union[0], this.h - this.union[1] - this.union[3]];
+    const scissors = this.faces.map((f) => [f.region[0], this.h - f.region[1] - f.region[3], f.region[2], f.region[3]]);
+    this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null, origin, scissors);
   }
 
   // The canvas's RGBA bytes, top row first.
@@ -335,31 +429,48 @@ class Relighter {
 }
 
 // ---- Small spheres: a light's shading, a pixel's visibility ----
-function drawSphere(canvas, value) {
-  const ctx = canvas.getContext('2d'), n = canvas.width, image = ctx.createImageData(n, n), values = [];
-  let top = 1e-9;
+// Per sphere size: each pixel inside the disc and its 9 SH basis values at the sphere's normal.
+const sphereGrids = new Map();
+function sphereGrid(n) {
+  if (sphereGrids.has(n)) return sphereGrids.get(n);
+  const inside = [], basis = [];
   for (let py = 0; py < n; ++py)
     for (let px = 0; px < n; ++px) {
       const x = (px + 0.5) / n * 2 - 1, y = 1 - (py + 0.5) / n * 2, r2 = x * x + y * y;
-      const rgb = r2 > 1 ? null : value(x, y, Math.sqrt(1 - r2));
-      values.push(rgb);
-      if (rgb) top = Math.max(top, ...rgb);
+      if (r2 > 1) continue;
+      inside.push(py * n + px);
+      basis.push(...shBasis(x, y, Math.sqrt(1 - r2)));
     }
-  values.forEach((rgb, i) => {
-    if (!rgb) return;
-    for (let c = 0; c < 3; ++c) image.data[4 * i + c] = Math.round(255 * linearToSrgb(rgb[c] / top));
-    image.data[4 * i + 3] = 255;
-  });
+  const grid = { inside: Int32Array.from(inside), basis: Float32Array.from(basis) };
+  sphereGrids.set(n, grid);
+  return grid;
+}
+
+// A sphere whose pixel at normal n has colour sum_i weights[c][i] Y_i(n) (clamped at 0), scaled
+// so that its brightest channel is 1, sRGB-encoded.
+function drawSphere(canvas, weights) {
+  const ctx = canvas.getContext('2d'), n = canvas.width, image = ctx.createImageData(n, n);
+  const { inside, basis } = sphereGrid(n), rgb = new Float32Array(inside.length * 3), w = Float32Array.from(weights.flat());
+  let top = 1e-9;
+  for (let p = 0; p < inside.length; ++p)
+    for (let c = 0; c < 3; ++c) {
+      let sum = 0;
+      for (let i = 0; i < 9; ++i) sum += w[c * 9 + i] * basis[p * 9 + i];
+      rgb[p * 3 + c] = sum;
+      if (sum > top) top = sum;
+    }
+  const scale = 4096 / top;
+  for (let p = 0; p < inside.length; ++p) {
+    const at = 4 * inside[p];
+    for (let c = 0; c < 3; ++c) image.data[at + c] = SRGB8[Math.min(4096, Math.max(0, Math.round(rgb[p * 3 + c] * scale)))];
+    image.data[at + 3] = 255;
+  }
   ctx.putImageData(image, 0, 0);
 }
 
 // The light's shading of a white unoccluded sphere, 1/pi sum A_l L_i Y_i(n) (light_preview.h).
 function drawLightSphere(canvas, light) {
-  drawSphere(canvas, (x, y, z) => {
-    const b = shBasis(x, y, z), rgb = [0, 0, 0];
-    for (let c = 0; c < 3; ++c) for (let i = 0; i < 9; ++i) rgb[c] += BAND_FACTOR[i] * light[c * 9 + i] * b[i] / Math.PI;
-    return rgb;
-  });
+  drawSphere(canvas, [0, 1, 2].map((c) => BAND_FACTOR.map((a, i) => a * light[c * 9 + i] / Math.PI)));
 }
 
 function lightFileText(light) {
@@ -392,15 +503,20 @@ function download(name, blob) {
 // ---- The page ----
 async function main() {
   const started = performance.now();
-  const view = $('view'), relitCanvas = $('relit');
-  view.width = data.width;
-  view.height = data.height;
-  const images = { photo: await loadImage(data.photo), mask: await loadImage(data.mask) };
-  for (const layer of data.layers) images[layer.name] = await loadImage(layer.url);
+  const box = $('view-box'), overlay = $('overlay'), relitCanvas = document.createElement('canvas');
+  box.style.aspectRatio = `${data.width} / ${data.height}`;
+  box.style.maxWidth = `calc(80vh * ${data.width / data.height})`;
+  overlay.width = data.width;
+  overlay.height = data.height;
+  // Only the photo is decoded before the page is ready (the relighting needs its pixels); the
+  // layers are <img> elements the browser decodes when they are first shown.
+  const urls = { photo: data.photo, mask: data.mask };
+  for (const layer of data.layers) urls[layer.name] = layer.url;
+  const photoImage = await loadImage(data.photo);
   const planes = data.faces.map(unpackFace);
   let relighter = null;
   try {
-    relighter = new Relighter(relitCanvas, images.photo, data.faces, planes);
+    relighter = new Relighter(relitCanvas, photoImage, data.faces, planes);
   } catch (e) {
     $('status').textContent = e.message;
   }
@@ -424,14 +540,32 @@ async function main() {
       Number($('intensity').value), colour());
   }
 
+  // The wipe: two panes over each other, the right one clipped at the wipe (CSS, no copy of pixels).
+  // The relit layer is the WebGL canvas itself; a layer on both sides shows in the left pane only.
+  const panes = [$('left-pane'), $('right-pane')], shown = ['', ''];
+  function layerElement(name) {
+    if (name === 'relit') return relitCanvas;
+    const img = new Image();
+    img.src = urls[name];
+    img.alt = name;
+    return img;
+  }
   function drawView() {
-    const ctx = view.getContext('2d'), split = Math.round(Number($('wipe').value) * data.width);
-    const source = (name) => (name === 'relit' ? relitCanvas : images[name]);
+    const left = $('left-layer').value, right = $('right-layer').value;
+    const wanted = [left, right === left ? '' : right];
+    wanted.forEach((name, i) => {
+      if (shown[i] === name) return;
+      panes[i].replaceChildren(...(name ? [layerElement(name)] : []));
+      shown[i] = name;
+    });
+    const split = Math.round(Number($('wipe').value) * data.width), percent = `${(100 * split / data.width).toFixed(4)}%`;
+    panes[1].style.clipPath = `inset(0 0 0 ${percent})`;
+    $('wipe-line').style.left = percent;
+    $('wipe-line').hidden = split <= 0 || split >= data.width;
+    // The overlay is a layer the browser composites every frame: shown only when it holds something.
+    overlay.hidden = !$('show-landmarks').checked;
+    const ctx = overlay.getContext('2d');
     ctx.clearRect(0, 0, data.width, data.height);
-    if (split > 0) ctx.drawImage(source($('left-layer').value), 0, 0, split, data.height, 0, 0, split, data.height);
-    if (split < data.width)
-      ctx.drawImage(source($('right-layer').value), split, 0, data.width - split, data.height, split, 0,
-        data.width - split, data.height);
     if ($('show-landmarks').checked) {
       ctx.strokeStyle = '#0f0';
       ctx.fillStyle = '#ff0';
@@ -442,10 +576,6 @@ async function main() {
         for (const [x, y] of face.landmarks) ctx.fillRect(x - r, y - r, 2 * r, 2 * r);
       }
     }
-    if (split > 0 && split < data.width) {
-      ctx.fillStyle = '#fff';
-      ctx.fillRect(split - 1, 0, 1, data.height);
-    }
   }
 
   function update() {
@@ -454,7 +584,19 @@ async function main() {
     state.visibility = $('visibility').checked;
     if (relighter) relighter.render(state.light, state.mode, state.visibility);
     drawLightSphere($('light-sphere'), state.light);
-    drawView();
+  }
+  // Input events only ask for a frame: at most one render per animation frame, however many
+  // events arrive (a drag sends more than the display shows).
+  let framePending = false;
+  const frameStamps = [];
+  function requestUpdate() {
+    if (framePending) return;
+    framePending = true;
+    requestAnimationFrame((t) => {
+      framePending = false;
+      update();
+      frameStamps.push(t);
+    });
   }
 
   // The light's direction from a drag on its sphere (the front hemisphere; the rim is sideways).
@@ -468,30 +610,30 @@ async function main() {
     $('elevation').value = (Math.asin(Math.max(-1, Math.min(1, y))) * 180 / Math.PI).toFixed(1);
     $('preset').value = '';
     state.loadedLight = null;
-    update();
+    requestUpdate();
   }
   $('light-sphere').addEventListener('pointerdown', (e) => {
-    $('light-sphere').setPointerCapture(e.pointerId);
+    try { $('light-sphere').setPointerCapture(e.pointerId); } catch (_) { /* a synthetic pointer */ }
     dragLight(e);
   });
   $('light-sphere').addEventListener('pointermove', (e) => { if (e.buttons) dragLight(e); });
   for (const id of ['azimuth', 'elevation', 'ambient', 'colour'])
-    $(id).addEventListener('input', () => { $('preset').value = ''; state.loadedLight = null; update(); });
+    $(id).addEventListener('input', () => { $('preset').value = ''; state.loadedLight = null; requestUpdate(); });
   for (const id of ['intensity', 'visibility', 'mode'])
-    $(id).addEventListener('input', update);
-  $('preset').addEventListener('input', () => { state.loadedLight = null; update(); });
+    $(id).addEventListener('input', requestUpdate);
+  $('preset').addEventListener('input', () => { state.loadedLight = null; requestUpdate(); });
   for (const id of ['left-layer', 'right-layer', 'wipe', 'show-landmarks']) $(id).addEventListener('input', drawView);
-  $('light-file').addEventListener('change', async () => {
-    const file = $('light-file').files[0];
-    if (!file) return;
+  async function loadLightFile(file) {
     try {
       state.loadedLight = parseLightFile(await file.text());
+      $('preset').value = '';
       $('status').textContent = 'light: ' + file.name;
       update();
     } catch (e) {
       $('status').textContent = file.name + ': ' + e.message;
     }
-  });
+  }
+  $('light-file').addEventListener('change', () => { if ($('light-file').files[0]) loadLightFile($('light-file').files[0]); });
   $('save-png').addEventListener('click', () => relitCanvas.toBlob((blob) => download(data.name + '_relit.png', blob), 'image/png'));
   $('save-light').addEventListener('click', () => download(data.name + '_light.json', new Blob([lightFileText(state.light)], { type: 'application/json' })));
 
@@ -509,10 +651,7 @@ async function main() {
   });
 
   // Hover: the pixel's normal, albedo and visibility from its face's crop (nearest sample).
-  view.addEventListener('mousemove', (event) => {
-    const box = view.getBoundingClientRect();
-    const x = Math.floor((event.clientX - box.left) / box.width * data.width);
-    const y = Math.floor((event.clientY - box.top) / box.height * data.height);
+  function showPixel(x, y) {
     for (let k = data.faces.length - 1; k >= 0; --k) {
       const face = data.faces[k], at = cropPosition(face, x, y), s = face.crop_size;
       if (at.alpha <= 0) continue;
@@ -520,20 +659,23 @@ async function main() {
       const p = planes[k], f = (c) => p[c][i].toFixed(3);
       const v = [3, 4, 5, 6, 7, 8, 9, 10, 11].map((c) => p[c][i]);
       $('hover').textContent = `pixel ${x}, ${y} (face ${k}, crop frame)\nnormal     ${f(0)} ${f(1)} ${f(2)}\n` +
-        `albedo     ${f(12)} ${f(13)} ${f(14)}\nvisibility ${v.map((a) => a.toFixed(2)).join(' ')}`;
-      drawSphere($('hover-sphere'), (sx, sy, sz) => {
-        const b = shBasis(sx, sy, sz);
-        let sum = 0;
-        for (let j = 0; j < 9; ++j) sum += v[j] * b[j];
-        const g = Math.max(0, sum);
-        return [g, g, g];
-      });
+        `albedo     ${f(12)} ${f(13)} ${f(14)}\nvisibility ${v.map((a) => a.toFixed(3)).join(' ')}`;
+      drawSphere($('hover-sphere'), [v, v, v]);
       return;
     }
     $('hover').textContent = `pixel ${x}, ${y}: no face`;
+  }
+  let hoverPending = null;
+  box.addEventListener('mousemove', (event) => {
+    const rect = box.getBoundingClientRect();
+    const x = Math.min(data.width - 1, Math.floor((event.clientX - rect.left) / rect.width * data.width));
+    const y = Math.min(data.height - 1, Math.floor((event.clientY - rect.top) / rect.height * data.height));
+    if (hoverPending === null) requestAnimationFrame(() => { showPixel(...hoverPending); hoverPending = null; });
+    hoverPending = [x, y];
   });
 
   update();
+  drawView();
   const openMs = performance.now() - started;
   $('status').textContent = (relighter ? '' : $('status').textContent + ' ') +
     `${data.width}x${data.height}, ${data.faces.length} face(s), mask ${data.mask_shape}`;
@@ -553,7 +695,6 @@ async function main() {
     light: () => state.light.slice(),
     lightFileText: () => lightFileText(state.light),
     relitPixels: () => relighter.pixels(),
-    viewPixels: () => view.getContext('2d').getImageData(0, 0, data.width, data.height).data,
     // Frames of a light turning about the head, each finished (one pixel read back), in ms.
     frameTimes(frames) {
       const times = [];
@@ -565,6 +706,27 @@ async function main() {
         times.push(performance.now() - t0);
       }
       return times;
+    },
+    // A drag as the browser delivers it: one pointer move on the light sphere per animation
+    // frame for `frames` frames, each rendered in the page's own animation-frame callback.
+    // Resolves to the frames shown per second over the drag.
+    async dragFps(frames) {
+      const sphere = $('light-sphere'), rect = sphere.getBoundingClientRect();
+      const at = (f) => {
+        const angle = 2 * Math.PI * f / frames;
+        return { clientX: rect.left + rect.width * (0.5 + 0.35 * Math.cos(angle)),
+                 clientY: rect.top + rect.height * (0.5 + 0.35 * Math.sin(angle)), buttons: 1, pointerId: 1, bubbles: true };
+      };
+      sphere.dispatchEvent(new PointerEvent('pointerdown', at(0)));
+      await new Promise(requestAnimationFrame);
+      frameStamps.length = 0;
+      for (let f = 1; f <= frames; ++f) {
+        sphere.dispatchEvent(new PointerEvent('pointermove', at(f)));
+        await new Promise(requestAnimationFrame);
+      }
+      sphere.dispatchEvent(new PointerEvent('pointerup', at(frames)));
+      const stamps = frameStamps.slice();
+      return { frames: stamps.length, fps: 1000 * (stamps.length - 1) / (stamps[stamps.length - 1] - stamps[0]) };
     },
   };
   document.body.dataset.ready = '1';
