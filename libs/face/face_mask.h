@@ -32,10 +32,14 @@ class ConvexInterior {
   // signed_distance_inside(polygon, p) >= 0: inside or on the boundary.
   bool contains(Point2 p) const;
 
- private:
   struct Line {
     double nx, ny, c;  // nx x + ny y + c: the distance to the edge's line, > 0 inside
   };
+  // The edges' lines (none for a polygon of fewer than 3 points): what a shader needs to test
+  // points itself (the view page's mask, libs/view).
+  const std::vector<Line>& lines() const { return lines_; }
+
+ private:
   std::vector<Line> lines_;
 };
 

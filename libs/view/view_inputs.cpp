@@ -109,13 +109,8 @@ void set_face_geometry(ViewPhoto& photo, bool forehead) {
     const PasteRegion region = paste_region(photo.width, photo.height, face.photo_to_crop, face.crop_size, polygon, 0.0);
     face.region = {region.x0, region.y0, region.width, region.height};
     face.mask_lines.clear();
-    for (size_t i = 0; i < polygon.size(); ++i) {
-      // ConvexInterior's edge lines (face_mask.cpp): the signed distance, positive inside.
-      const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
-      const double ex = b.x - a.x, ey = b.y - a.y, len = std::hypot(ex, ey);
-      if (len == 0) continue;
-      face.mask_lines.push_back({-ey / len, ex / len, (ey * a.x - ex * a.y) / len});
-    }
+    const ConvexInterior interior(polygon);  // the mask's own edges
+    for (const ConvexInterior::Line& line : interior.lines()) face.mask_lines.push_back({line.nx, line.ny, line.c});
   }
 }
 
