@@ -164,9 +164,13 @@ void main() {
 }
 
 // relight's paste-back of every face, in order, at one pixel of U (bilinear in the crop, blended
-// with the prepared weight), then the mode's last step: 0 the pasted value as it is, 1 sRGB-encoded,
-// 2 photo x guarded ratio to u_old. u_origin: where U's first row and column are in gl_FragCoord.
-function pasteShader(faceCount) {
+// with the prepared weight), then the mode's last step. One program per use, without the code the
+// use does not need (in SwiftShader, the software WebGL, code a branch skips still costs):
+// OUT 0 the pasted value as it is (the estimated shading, pasted over 1); 1 render: pasted over the
+// photo, sRGB-encoded; 2 ratio: pasted over 1, times the prepared photo / (old shading + epsilon),
+// sRGB-encoded. Pixels of no face: KEEP 1 left as the target holds them, 0 the photo's bytes.
+// u_origin: where U's first row and column are in gl_FragCoord.
+function pasteShader(faceCount, out, keep) {
   let samplers = '', calls = '';
   for (let k = 0; k < faceCount; ++k) {
     samplers += `uniform sampler2D u_crop${k};\n`;
@@ -177,13 +181,22 @@ function pasteShader(faceCount) {
     weights += `  vec4 w${g} = texelFetch(u_weights${g}, q, 0);\n`;
   const weightSamplers = Array.from({ length: Math.ceil(faceCount / 4) }, (_, g) => `uniform sampler2D u_weights${g};`).join(' ');
   return `#version 300 es
+#define OUT ${out}
+#define KEEP ${keep}
 precision highp float; precision highp int; precision highp sampler2D;
 ${samplers}${weightSamplers}
-uniform sampler2D u_linear; uniform sampler2D u_old;
+uniform sampler2D u_linear; uniform sampler2D u_ratio; uniform sampler2D u_photo; uniform sampler2D u_srgb;
 uniform vec4 u_t[${faceCount}]; uniform int u_crop_size[${faceCount}];
-uniform float u_epsilon; uniform ivec4 u_union; uniform ivec2 u_origin; uniform int u_base; uniform int u_out;
+uniform float u_epsilon; uniform ivec4 u_union; uniform ivec2 u_origin;
 out vec4 o;
-float toSrgb(float v) { float x = clamp(v, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
+// round(255 x sRGB(v)) / 255 from u_srgb (srgbSteps()): at v's 1/4096 step, the level at the
+// step's start and the value where the next level starts.
+float toSrgb8(float v) {
+  float x = clamp(v, 0.0, 1.0);
+  int i = min(int(x * 4096.0), 4095);
+  vec2 s = texelFetch(u_srgb, ivec2(i & 63, i >> 6), 0).xy;
+  return (s.x + (x >= s.y ? 1.0 : 0.0)) / 255.0;
+}
 vec3 pasteFace(sampler2D crop, int k, float a, vec2 p, vec3 acc) {
   if (a <= 0.0) return acc;
   vec4 t = u_t[k];
@@ -201,18 +214,57 @@ vec3 pasteFace(sampler2D crop, int k, float a, vec2 p, vec3 acc) {
 void main() {
   ivec2 q = ivec2(gl_FragCoord.xy) - u_origin;
   vec2 p = vec2(float(u_union.x + q.x), float(u_union.y + u_union.w - 1 - q.y));
-${weights}  // No face here: the canvas keeps the photo drawn at the start (both modes give the photo).
-  if (u_out != 0 && ${Array.from({ length: Math.ceil(faceCount / 4) }, (_, g) => `dot(w${g}, vec4(1.0)) <= 0.0`).join(' && ')}) discard;
-  vec3 photo = texelFetch(u_linear, q, 0).rgb;
-  vec3 acc = u_base == 0 ? photo : vec3(1.0);
-${calls}  if (u_out == 0) { o = vec4(acc, 1.0); return; }
-  vec3 result = acc;
-  if (u_out == 2) {
-    vec3 old = texelFetch(u_old, q, 0).rgb;
-    result = photo * ((max(acc, 0.0) + u_epsilon) / (max(old, 0.0) + u_epsilon));
+${weights}#if OUT != 0
+  // No face here: both modes give the photo.
+  if (${Array.from({ length: Math.ceil(faceCount / 4) }, (_, g) => `dot(w${g}, vec4(1.0)) <= 0.0`).join(' && ')}) {
+#if KEEP
+    discard;
+#else
+    o = vec4(texelFetch(u_photo, ivec2(p), 0).rgb, 1.0);
+    return;
+#endif
   }
-  o = vec4(toSrgb(result.r), toSrgb(result.g), toSrgb(result.b), 1.0);
+#endif
+#if OUT == 1
+  vec3 acc = texelFetch(u_linear, q, 0).rgb;
+#else
+  vec3 acc = vec3(1.0);
+#endif
+${calls}#if OUT == 0
+  o = vec4(acc, 1.0);
+#else
+#if OUT == 2
+  acc = texelFetch(u_ratio, q, 0).rgb * (max(acc, 0.0) + u_epsilon);
+#endif
+  o = vec4(toSrgb8(acc.r), toSrgb8(acc.g), toSrgb8(acc.b), 1.0);
+#endif
 }`;
+}
+
+// The ratio mode's per-pixel factor that does not depend on the light, over U: photo / (the
+// estimated shading + epsilon), both linear (relight's guarded ratio: photo x (new + e) / (old + e)).
+const RATIO = `#version 300 es
+precision highp float; precision highp sampler2D;
+uniform sampler2D u_linear; uniform sampler2D u_old; uniform float u_epsilon; out vec4 o;
+void main() {
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  o = vec4(texelFetch(u_linear, q, 0).rgb / (max(texelFetch(u_old, q, 0).rgb, 0.0) + u_epsilon), 1.0);
+}`;
+const RATIO_EPSILON = 0.02;
+
+// The table toSrgb8 reads, 4096 steps of linear values as 64 x 64 texels: per step the 8-bit level
+// round(255 sRGB(v)) at its start and the value where the next level starts (2: none in the step).
+// A step holds at most one start: the curve rises at most 255 x 12.92 / 4096 = 0.8 levels per step.
+function srgbSteps() {
+  const steps = 4096, table = new Float32Array(steps * 4);
+  const starts = Array.from({ length: 255 }, (_, k) => srgbToLinear((k + 0.5) / 255));
+  let level = 0;
+  for (let i = 0; i < steps; ++i) {
+    while (level < 255 && starts[level] <= i / steps) ++level;
+    table[4 * i] = level;
+    table[4 * i + 1] = level < 255 && starts[level] < (i + 1) / steps ? starts[level] : 2;
+  }
+  return table;
 }
 
 // The photo's sRGB bytes as they are, for the canvas outside the faces (drawn once).
@@ -252,16 +304,19 @@ function targetTexture(gl, width, height) {
   return { texture, fbo };
 }
 
-// The relit photo in a WebGL2 canvas shown as it is. A frame: per face the crop pass, then the
-// paste pass over the faces' regions only (the rest of the canvas is the photo, drawn once).
+// The relit faces in a WebGL2 canvas the size of U, the box around the faces' regions, shown over
+// the photo's <img> as it is. A frame: per face the crop pass, then the paste pass over the faces'
+// regions only; the rest of the canvas stays transparent (the photo shows through). The drawing
+// buffer is not preserved (the browser swaps it instead of copying it each frame): what is read
+// back (pixels(), the saved PNG) is rendered again at the photo's size into a texture of its own.
 class Relighter {
   constructor(canvas, photoImage, faces, planes) {
-    const gl = canvas.getContext('webgl2', { preserveDrawingBuffer: true, antialias: false, premultipliedAlpha: false });
+    const gl = canvas.getContext('webgl2', { preserveDrawingBuffer: false, antialias: false, depth: false, stencil: false });
     if (!gl) throw new Error('this browser has no WebGL2; the layers are shown, the relighting is not');
     if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('this browser cannot render to float textures (EXT_color_buffer_float)');
     this.gl = gl;
-    this.w = canvas.width = data.width;
-    this.h = canvas.height = data.height;
+    this.w = data.width;
+    this.h = data.height;
     this.faces = faces;
     this.uniforms = new Map();
     const buffer = gl.createBuffer();
@@ -271,7 +326,7 @@ class Relighter {
     gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
     const maxLines = Math.max(...faces.map((f) => f.mask_lines.length));
     this.crop = compile(gl, VERTEX, cropShader(data.triple));
-    this.paste = compile(gl, VERTEX, pasteShader(faces.length));
+    this.pastePrograms = new Map();
     const prepare = compile(gl, VERTEX, prepareShader(faces.length, maxLines)), copy = compile(gl, VERTEX, COPY);
 
     // U, the box around every face's region (photo pixels, top-down rows).
@@ -280,19 +335,22 @@ class Relighter {
     const y1 = Math.max(...faces.map((f) => f.region[1] + f.region[3]));
     this.union = [x0, y0, Math.max(1, x1 - x0), Math.max(1, y1 - y0)];
     const [uw, uh] = [this.union[2], this.union[3]];
+    canvas.width = uw;
+    canvas.height = uh;
 
     gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
     gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
-    const photo = gl.createTexture();
+    const photo = (this.photo = gl.createTexture());
     gl.bindTexture(gl.TEXTURE_2D, photo);
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, photoImage);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
     const lines = new Float32Array(maxLines * faces.length * 4);
     faces.forEach((f, k) => f.mask_lines.forEach((l, e) => lines.set([l[0], l[1], l[2], 1], 4 * (k * maxLines + e))));
     const lineTexture = floatTexture(gl, maxLines, faces.length, lines);
+    this.srgb = floatTexture(gl, 64, 64, srgbSteps());
 
     // Once: the photo in linear RGB and the faces' weights over U, then the estimated shading
-    // (infer's, pasted over 1) for the ratio mode.
+    // (infer's, pasted over 1) and from it the ratio mode's factor (RATIO).
     this.linear = targetTexture(gl, uw, uh);
     this.weights = [];
     for (let first = 0; first < faces.length; first += 4) this.weights.push(targetTexture(gl, uw, uh));
@@ -331,16 +389,28 @@ class Relighter {
       olds.push(floatTexture(gl, s, s, old));
       this.outputs.push(targetTexture(gl, s, s));
     });
-    this.old = targetTexture(gl, uw, uh);
-    this.runPaste(olds, 1, 0, this.old.fbo, [0, 0], null);
+    const old = targetTexture(gl, uw, uh);
+    this.runPaste(olds, 0, old.fbo, [0, 0], null, 0);
+    this.ratio = targetTexture(gl, uw, uh);
+    const ratio = compile(gl, VERTEX, RATIO);
+    gl.useProgram(ratio);
+    this.bind(ratio, [['u_linear', this.linear.texture], ['u_old', old.texture]]);
+    gl.uniform1f(this.uniform(ratio, 'u_epsilon'), RATIO_EPSILON);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
 
-    // The canvas: the photo everywhere, once.
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    // What is read back: the whole photo in 8 bits, its sRGB bytes everywhere, once; U is
+    // pasted over it again for each read.
+    this.full = { texture: gl.createTexture(), fbo: gl.createFramebuffer() };
+    gl.bindTexture(gl.TEXTURE_2D, this.full.texture);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA8, this.w, this.h);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.full.fbo);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.full.texture, 0);
     gl.viewport(0, 0, this.w, this.h);
     gl.useProgram(copy);
     this.bind(copy, [['u_photo', photo]]);
     gl.uniform1i(this.uniform(copy, 'u_height'), this.h);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
+    this.lastOut = 2;
   }
 
   uniform(program, name) {
@@ -360,23 +430,25 @@ class Relighter {
   }
 
   // The paste pass into `fbo` (null: the canvas), U's first pixel at `origin` of the target;
-  // `scissors`: the boxes of the target drawn (null: all of U).
-  runPaste(crops, base, out, fbo, origin, scissors) {
-    const gl = this.gl, program = this.paste, u = (name) => this.uniform(program, name);
+  // `scissors`: the boxes of the target drawn (null: all of U); `keep` 1: pixels of no face are
+  // left as they are, 0: they get the photo's bytes.
+  runPaste(crops, out, fbo, origin, scissors, keep) {
+    const gl = this.gl, key = `${out} ${keep}`;
+    if (!this.pastePrograms.has(key)) this.pastePrograms.set(key, compile(gl, VERTEX, pasteShader(this.faces.length, out, keep)));
+    const program = this.pastePrograms.get(key), u = (name) => this.uniform(program, name);
     gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
     gl.viewport(origin[0], origin[1], this.union[2], this.union[3]);
     gl.useProgram(program);
-    const textures = [['u_linear', this.linear.texture], ['u_old', fbo === this.old.fbo ? this.linear.texture : this.old.texture]];
+    const textures = [['u_linear', this.linear.texture], ['u_photo', this.photo], ['u_srgb', this.srgb]];
+    if (this.ratio) textures.push(['u_ratio', this.ratio.texture]);
     this.weights.forEach((target, g) => textures.push(['u_weights' + g, target.texture]));
     crops.forEach((texture, k) => textures.push(['u_crop' + k, texture]));
     this.bind(program, textures);
     gl.uniform4fv(u('u_t'), this.faces.flatMap((f) => f.photo_to_crop));
     gl.uniform1iv(u('u_crop_size'), this.faces.map((f) => f.crop_size));
-    gl.uniform1f(u('u_epsilon'), 0.02);
+    gl.uniform1f(u('u_epsilon'), RATIO_EPSILON);
     gl.uniform4iv(u('u_union'), this.union);
     gl.uniform2iv(u('u_origin'), origin);
-    gl.uniform1i(u('u_base'), base);
-    gl.uniform1i(u('u_out'), out);
     if (!scissors) {
       gl.drawArrays(gl.TRIANGLES, 0, 3);
       return;
@@ -411,16 +483,19 @@ class Relighter {
       gl.uniform1i(u('u_visibility'), visibility ? 1 : 0);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
     });
-    // Outside the faces' regions both modes give the photo, already there: only the regions are drawn.
-    const origin = [this.union[0], this.h - this.union[1] - this.union[3]];
-    const scissors = this.faces.map((f) => [f.region[0], this.h - f.region[1] - f.region[3], f.region[2], f.region[3]]);
-    this.runPaste(this.outputs.map((o) => o.texture), render ? 0 : 1, render ? 1 : 2, null, origin, scissors);
+    // Outside the faces' regions both modes give the photo, shown under the canvas: only the
+    // regions are drawn (U's rows bottom up: a region's first row is its bottom one).
+    const [ux, uy, , uh] = this.union;
+    const scissors = this.faces.map((f) => [f.region[0] - ux, uy + uh - f.region[1] - f.region[3], f.region[2], f.region[3]]);
+    this.lastOut = render ? 1 : 2;
+    this.runPaste(this.outputs.map((o) => o.texture), this.lastOut, null, [0, 0], scissors, 1);
   }
 
-  // The canvas's RGBA bytes, top row first.
+  // The relit photo's RGBA bytes, top row first, as the page shows it (the last render()'s).
   pixels() {
     const gl = this.gl, out = new Uint8Array(this.w * this.h * 4), flipped = new Uint8Array(out.length);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    const origin = [this.union[0], this.h - this.union[1] - this.union[3]];
+    this.runPaste(this.outputs.map((o) => o.texture), this.lastOut, this.full.fbo, origin, null, 0);
     gl.readPixels(0, 0, this.w, this.h, gl.RGBA, gl.UNSIGNED_BYTE, out);
     const row = this.w * 4;
     for (let y = 0; y < this.h; ++y) flipped.set(out.subarray((this.h - 1 - y) * row, (this.h - y) * row), y * row);
@@ -448,9 +523,15 @@ function sphereGrid(n) {
 
 // A sphere whose pixel at normal n has colour sum_i weights[c][i] Y_i(n) (clamped at 0), scaled
 // so that its brightest channel is 1, sRGB-encoded.
+// Each canvas keeps its image and its buffer of sums between draws (a drag draws one per frame).
+const sphereImages = new Map();
 function drawSphere(canvas, weights) {
-  const ctx = canvas.getContext('2d'), n = canvas.width, image = ctx.createImageData(n, n);
-  const { inside, basis } = sphereGrid(n), rgb = new Float32Array(inside.length * 3), w = Float32Array.from(weights.flat());
+  const n = canvas.width, { inside, basis } = sphereGrid(n), w = Float32Array.from(weights.flat());
+  if (!sphereImages.has(canvas)) {
+    const ctx = canvas.getContext('2d');
+    sphereImages.set(canvas, { ctx, image: ctx.createImageData(n, n), rgb: new Float32Array(inside.length * 3) });
+  }
+  const { ctx, image, rgb } = sphereImages.get(canvas);
   let top = 1e-9;
   for (let p = 0; p < inside.length; ++p)
     for (let c = 0; c < 3; ++c) {
@@ -501,6 +582,10 @@ function download(name, blob) {
 }
 
 // ---- The page ----
+function setText(field, value) {
+  if (field.value !== value) field.value = value;
+}
+
 async function main() {
   const started = performance.now();
   const box = $('view-box'), overlay = $('overlay'), relitCanvas = document.createElement('canvas');
@@ -541,10 +626,20 @@ async function main() {
   }
 
   // The wipe: two panes over each other, the right one clipped at the wipe (CSS, no copy of pixels).
-  // The relit layer is the WebGL canvas itself; a layer on both sides shows in the left pane only.
+  // The relit layer is the photo with the WebGL canvas over the faces' box; a layer on both sides
+  // shows in the left pane only.
   const panes = [$('left-pane'), $('right-pane')], shown = ['', ''];
+  let relitLayer = null;
+  if (relighter) {
+    relitLayer = document.createElement('div');
+    relitLayer.className = 'relit';
+    const [ux, uy, uw, uh] = relighter.union;
+    Object.assign(relitCanvas.style, { left: `${100 * ux / data.width}%`, top: `${100 * uy / data.height}%`,
+      width: `${100 * uw / data.width}%`, height: `${100 * uh / data.height}%` });
+    relitLayer.append(layerElement('photo'), relitCanvas);
+  }
   function layerElement(name) {
-    if (name === 'relit') return relitCanvas;
+    if (name === 'relit') return relitLayer;
     const img = new Image();
     img.src = urls[name];
     img.alt = name;
@@ -557,6 +652,8 @@ async function main() {
       if (shown[i] === name) return;
       panes[i].replaceChildren(...(name ? [layerElement(name)] : []));
       shown[i] = name;
+      // A canvas put back in the page is drawn again (its buffer is not kept between frames).
+      if (name === 'relit') requestUpdate();
     });
     const split = Math.round(Number($('wipe').value) * data.width), percent = `${(100 * split / data.width).toFixed(4)}%`;
     panes[1].style.clipPath = `inset(0 0 0 ${percent})`;
@@ -583,8 +680,11 @@ async function main() {
     state.mode = $('mode').value;
     state.visibility = $('visibility').checked;
     if (relighter) relighter.render(state.light, state.mode, state.visibility);
-    drawLightSphere($('light-sphere'), state.light);
+    // The sphere only when its light changed (a mode or visibility switch leaves it as it is).
+    if (String(state.light) !== drawnLight) drawLightSphere($('light-sphere'), state.light);
+    drawnLight = String(state.light);
   }
+  let drawnLight = '';
   // Input events only ask for a frame: at most one render per animation frame, however many
   // events arrive (a drag sends more than the display shows).
   let framePending = false;
@@ -606,9 +706,10 @@ async function main() {
     const r = Math.hypot(x, y);
     if (r > 1) { x /= r; y /= r; }
     const z = Math.sqrt(Math.max(0, 1 - x * x - y * y));
-    $('azimuth').value = (Math.atan2(x, z) * 180 / Math.PI).toFixed(1);
-    $('elevation').value = (Math.asin(Math.max(-1, Math.min(1, y))) * 180 / Math.PI).toFixed(1);
-    $('preset').value = '';
+    // Fields written only when their text changes: each write is a style and layout change.
+    setText($('azimuth'), (Math.atan2(x, z) * 180 / Math.PI).toFixed(1));
+    setText($('elevation'), (Math.asin(Math.max(-1, Math.min(1, y))) * 180 / Math.PI).toFixed(1));
+    setText($('preset'), '');
     state.loadedLight = null;
     requestUpdate();
   }
@@ -634,7 +735,14 @@ async function main() {
     }
   }
   $('light-file').addEventListener('change', () => { if ($('light-file').files[0]) loadLightFile($('light-file').files[0]); });
-  $('save-png').addEventListener('click', () => relitCanvas.toBlob((blob) => download(data.name + '_relit.png', blob), 'image/png'));
+  $('save-png').addEventListener('click', () => {
+    if (!relighter) return;
+    const canvas = document.createElement('canvas');
+    canvas.width = data.width;
+    canvas.height = data.height;
+    canvas.getContext('2d').putImageData(new ImageData(new Uint8ClampedArray(relighter.pixels().buffer), data.width, data.height), 0, 0);
+    canvas.toBlob((blob) => download(data.name + '_relit.png', blob), 'image/png');
+  });
   $('save-light').addEventListener('click', () => download(data.name + '_light.json', new Blob([lightFileText(state.light)], { type: 'application/json' })));
 
   // Each face: its estimated light as a sphere and as numbers.
