@@ -376,7 +376,8 @@ PYBIND11_MODULE(_facetool, m) {
                std::to_string(static_cast<int>(d.right)) + ", " + std::to_string(static_cast<int>(d.bottom)) + ")>";
       });
 
-  py::class_<Photo>(m, "Photo", "A decomposed photo: its faces and the layers pasted back at the photo's resolution.")
+  py::class_<Photo>(m, "Photo", "A decomposed photo: its faces and the layers pasted back at the photo's resolution\n"
+                               "(a layer left out of decompose(layers=...) raises facetool.Error).")
       .def_property_readonly("faces", [](const Photo& p) {
             std::vector<Face> faces;
             for (size_t k = 0; k < p.photo->crops.size(); ++k) faces.push_back(Face{p.photo, static_cast<int>(k)});
