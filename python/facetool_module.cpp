@@ -165,8 +165,7 @@ const std::vector<float>& made_layer(const Photo& p, PhotoLayer layer) {
   const PhotoLayers& layers = p.photo->layers;
   if (!layers.made.has(layer)) {
     std::string made;
-    for (PhotoLayer l : {PhotoLayer::kAlbedo, PhotoLayer::kNormal, PhotoLayer::kVisibility, PhotoLayer::kShading,
-                         PhotoLayer::kReconstruction})
+    for (PhotoLayer l : all_photo_layers())
       if (layers.made.has(l)) made += std::string(made.empty() ? "" : ", ") + photo_layer_name(l);
     throw Error(std::string("the photo's ") + photo_layer_name(layer) + " layer was not computed: decompose() was given layers=[" +
                 made + "]; add '" + photo_layer_name(layer) + "' to layers= (or leave layers= out for every layer)");

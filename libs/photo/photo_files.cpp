@@ -179,8 +179,7 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
   const int w = photo.photo.width, h = photo.photo.height, n = d.count;
   const size_t plane = static_cast<size_t>(w) * h;
   const PhotoLayerSet needed = outputs.layers();
-  for (PhotoLayer layer : {PhotoLayer::kAlbedo, PhotoLayer::kNormal, PhotoLayer::kVisibility, PhotoLayer::kShading,
-                           PhotoLayer::kReconstruction})
+  for (PhotoLayer layer : all_photo_layers())
     check(!needed.has(layer) || layers.made.has(layer), "writing the files of '", photo.path, "': the ",
           photo_layer_name(layer), " layer was not pasted back (PhotoInferOptions::layers lacks it)");
   std::error_code ec;

@@ -2,6 +2,8 @@
 #include "libs/photo/photo_outputs.h"
 
 #include <cctype>
+#include <iterator>
+#include <utility>
 
 #include "core/util/error.h"
 
@@ -43,10 +45,9 @@ const char* photo_layer_name(PhotoLayer layer) {
   return "?";
 }
 
-std::vector<std::string> photo_layer_names() {
-  std::vector<std::string> names;
-  for (PhotoLayer layer : kLayers) names.push_back(photo_layer_name(layer));
-  return names;
+const std::vector<PhotoLayer>& all_photo_layers() {
+  static const std::vector<PhotoLayer> layers(std::begin(kLayers), std::end(kLayers));
+  return layers;
 }
 
 PhotoLayerSet parse_photo_layers(const std::vector<std::string>& names, const std::string& what) {

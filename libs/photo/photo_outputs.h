@@ -31,8 +31,8 @@ class PhotoLayerSet {
 
 // The name of a layer ("albedo", "normal", "visibility", "shading", "reconstruction").
 const char* photo_layer_name(PhotoLayer layer);
-// Every layer's name, in PhotoLayer's order.
-std::vector<std::string> photo_layer_names();
+// Every layer, in PhotoLayer's order.
+const std::vector<PhotoLayer>& all_photo_layers();
 // A list of layer names as a set; facetool::Error naming `what` and the valid names for an
 // unknown or repeated one, or for an empty list.
 PhotoLayerSet parse_photo_layers(const std::vector<std::string>& names, const std::string& what);
