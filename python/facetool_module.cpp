@@ -22,6 +22,7 @@
 #include "libs/light/direction_light.h"
 #include "libs/light/light_formats.h"
 #include "libs/model/default_model.h"
+#include "libs/photo/photo_outputs.h"
 #include "libs/photo/photo_pipeline.h"
 #include "libs/photo/relight_pipeline.h"
 #include "libs/photo/session.h"
@@ -168,10 +169,58 @@ struct Photo {
 // The view page (libs/view) of `photo`, titled by its source's file name (as infer names its
 // folder) or "photo": what `facetool view` writes for infer's folder of the same photo.
 std::string view_page(const Photo& p) {
+  for (PhotoLayer l : all_photo_layers())
+    if (!p.photo->layers.made.has(l))
+      throw Error(std::string("the view page shows every layer, and this photo's ") + photo_layer_name(l) +
+                  " layer was not computed: decompose() it without layers=");
   std::string name = std::filesystem::path(p.photo->path).stem().string();
   if (name.empty()) name = "photo";
   const view::ViewPhoto photo = view::view_photo_from(*p.photo, name, p.feather, p.forehead);
   return view::view_page_html(photo, view::page_presets(photo, {}));
+}
+
+// A photo-level layer of `p`; facetool.Error naming decompose()'s layers= argument when it was not
+// computed.
+const std::vector<float>& made_layer(const Photo& p, PhotoLayer layer) {
+  const PhotoLayers& layers = p.photo->layers;
+  if (!layers.made.has(layer)) {
+    std::string made;
+    for (PhotoLayer l : all_photo_layers())
+      if (layers.made.has(l)) made += std::string(made.empty() ? "" : ", ") + photo_layer_name(l);
+    throw Error(std::string("the photo's ") + photo_layer_name(layer) + " layer was not computed: decompose() was given layers=[" +
+                made + "]; add '" + photo_layer_name(layer) + "' to layers= (or leave layers= out for every layer)");
+  }
+  switch (layer) {
+    case PhotoLayer::kAlbedo: return layers.albedo;
+    case PhotoLayer::kNormal: return layers.normal;
+    case PhotoLayer::kVisibility: return layers.visibility;
+    case PhotoLayer::kShading: return layers.shading;
+    case PhotoLayer::kReconstruction: return layers.reconstruction;
+  }
+  return layers.albedo;
+}
+
+// decompose()'s layers= argument: None (every layer), one name, or a sequence of names.
+PhotoLayerSet layers_from_argument(const py::object& layers) {
+  if (layers.is_none()) return PhotoLayerSet::all();
+  std::vector<std::string> names;
+  if (py::isinstance<py::str>(layers)) {
+    names.push_back(layers.cast<std::string>());
+  } else {
+    if (!py::isinstance<py::sequence>(layers))
+      throw py::type_error("layers must be None (every layer) or a list of layer names, not " +
+                           py::str(py::type::of(layers)).cast<std::string>());
+    for (const py::handle& item : layers) {
+      if (!py::isinstance<py::str>(item))
+        throw py::type_error("layers must be names (str), not " + py::str(py::type::of(item)).cast<std::string>());
+      names.push_back(item.cast<std::string>());
+    }
+  }
+  try {
+    return parse_photo_layers(names, "layers");
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
 }
 
 class Model;
@@ -347,7 +396,8 @@ PYBIND11_MODULE(_facetool, m) {
                std::to_string(static_cast<int>(d.right)) + ", " + std::to_string(static_cast<int>(d.bottom)) + ")>";
       });
 
-  py::class_<Photo>(m, "Photo", "A decomposed photo: its faces and the layers pasted back at the photo's resolution.")
+  py::class_<Photo>(m, "Photo", "A decomposed photo: its faces and the layers pasted back at the photo's resolution\n"
+                               "(a layer left out of decompose(layers=...) raises facetool.Error).")
       .def_property_readonly("faces", [](const Photo& p) {
             std::vector<Face> faces;
             for (size_t k = 0; k < p.photo->crops.size(); ++k) faces.push_back(Face{p.photo, static_cast<int>(k)});
@@ -365,19 +415,19 @@ PYBIND11_MODULE(_facetool, m) {
             return hw_array(p.photo->layers.alpha.data(), p.photo->layers.height, p.photo->layers.width);
           }, "(H, W) face coverage in [0, 1]; the layers below are premultiplied by it.")
       .def_property_readonly("albedo", [](const Photo& p) {
-            return hwc_array(p.photo->layers.albedo.data(), 3, p.photo->layers.height, p.photo->layers.width);
+            return hwc_array(made_layer(p, PhotoLayer::kAlbedo).data(), 3, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 3) albedo pasted back (premultiplied by alpha).")
       .def_property_readonly("normal", [](const Photo& p) {
-            return hwc_array(p.photo->layers.normal.data(), 3, p.photo->layers.height, p.photo->layers.width);
+            return hwc_array(made_layer(p, PhotoLayer::kNormal).data(), 3, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 3) normals in the photo frame (+X right, +Y up, +Z towards the viewer), premultiplied.")
       .def_property_readonly("visibility", [](const Photo& p) {
-            return hwc_array(p.photo->layers.visibility.data(), 9, p.photo->layers.height, p.photo->layers.width);
+            return hwc_array(made_layer(p, PhotoLayer::kVisibility).data(), 9, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 9) visibility SH coefficients in the photo frame, premultiplied.")
       .def_property_readonly("shading", [](const Photo& p) {
-            return hwc_array(p.photo->layers.shading.data(), 3, p.photo->layers.height, p.photo->layers.width);
+            return hwc_array(made_layer(p, PhotoLayer::kShading).data(), 3, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 3) shading pasted back, premultiplied.")
       .def_property_readonly("reconstruction", [](const Photo& p) {
-            return hwc_array(p.photo->layers.reconstruction.data(), 3, p.photo->layers.height, p.photo->layers.width);
+            return hwc_array(made_layer(p, PhotoLayer::kReconstruction).data(), 3, p.photo->layers.height, p.photo->layers.width);
           }, "(H, W, 3) re-rendered faces pasted back, premultiplied.")
       .def("view_html", [](const Photo& p) {
              std::string html;
@@ -426,9 +476,10 @@ PYBIND11_MODULE(_facetool, m) {
            "`light_solve`: each face's light solved from its shading (a distant light plus ambient), the albedo\n"
            "following from the photo and that shading (as the program; False: the network's light, as its --no-light-solve).")
       .def("decompose", [](Model& model, const py::handle& image, int max_faces, double min_face_size, double min_score,
-                           const std::string& face_region, double feather, int batch) {
+                           const std::string& face_region, double feather, int batch, const py::object& layers) {
              RgbImage photo = image_from_array(image, "image");
-             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+             PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+             options.layers = layers_from_argument(layers);
              // A float image far above 1 is most likely 8-bit values given as floats: say so if no
              // face is found in it (it is taken as linear light in 0..1).
              float brightest = 0.0f;
@@ -445,11 +496,17 @@ PYBIND11_MODULE(_facetool, m) {
            },
            py::arg("image"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
            py::arg("min_score") = 0.25, py::arg("face_region") = "auto", py::arg("feather") = 3.0, py::arg("batch") = 8,
+           py::arg("layers") = py::none(),
            "Finds every face of `image` ((H, W, 3) uint8 sRGB or float linear RGB), aligns it, decomposes it and\n"
-           "pastes the results back. Returns a facetool.Photo; raises facetool.Error when no face is found.")
+           "pastes the results back. Returns a facetool.Photo; raises facetool.Error when no face is found.\n"
+           "`layers`: the photo-level layers to paste back, a list of 'albedo', 'normal', 'visibility', 'shading',\n"
+           "'reconstruction' (None: every one); asking the Photo for another raises facetool.Error. The faces'\n"
+           "crop-level results and lights are computed whatever the list.")
       .def("decompose_file", [](Model& model, const std::string& path, int max_faces, double min_face_size,
-                                double min_score, const std::string& face_region, double feather, int batch) {
-             const PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+                                double min_score, const std::string& face_region, double feather, int batch,
+                                const py::object& layers) {
+             PhotoInferOptions options = photo_options(max_faces, min_face_size, min_score, face_region, feather, batch);
+             options.layers = layers_from_argument(layers);
              checked_path(path, "path");
              py::gil_scoped_release release;
              RgbImage photo;
@@ -462,6 +519,7 @@ PYBIND11_MODULE(_facetool, m) {
            },
            py::arg("path"), py::kw_only(), py::arg("max_faces") = 0, py::arg("min_face_size") = 0.0,
            py::arg("min_score") = 0.25, py::arg("face_region") = "auto", py::arg("feather") = 3.0, py::arg("batch") = 8,
+           py::arg("layers") = py::none(),
            "decompose() of an image file (8-bit files decoded from sRGB, EXR/HDR linear).")
       .def("relight", [](Model& model, const Photo& photo, const py::handle& light, const std::string& mode,
                          bool visibility, double ratio_epsilon) {

@@ -15,6 +15,7 @@
 #include <mutex>
 #include <sstream>
 #include <system_error>
+#include <tuple>
 #include <utility>
 
 #include "libs/face/detection_summary.h"
@@ -213,54 +214,73 @@ std::vector<unsigned char> encode_photo_layer_png(const DecomposedPhoto& photo, 
 }
 
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options) {
+  const PhotoOutputs& outputs = options.outputs;
   const Decomposition& d = photo.decomposition;
   const PhotoLayers& layers = photo.layers;
   const int w = photo.photo.width, h = photo.photo.height, n = d.count;
   const size_t plane = static_cast<size_t>(w) * h;
+  const PhotoLayerSet needed = outputs.layers();
+  for (PhotoLayer layer : all_photo_layers())
+    check(!needed.has(layer) || layers.made.has(layer), "writing the files of '", photo.path, "': the ",
+          photo_layer_name(layer), " layer was not pasted back (PhotoInferOptions::layers lacks it)");
   std::error_code ec;
   fs::create_directories(folder, ec);
   check(!ec, "cannot create output folder '", folder, "': ", ec.message());
   std::vector<float> inputs;
-  for (const FaceCrop& c : photo.crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
+  const bool sheet = outputs.has(PhotoOutput::kContactSheet);
+  if (sheet || outputs.has(PhotoOutput::kFaceFolders))
+    for (const FaceCrop& c : photo.crops) inputs.insert(inputs.end(), c.rgb.begin(), c.rgb.end());
   std::vector<RgbImage> sheet_rows;
   for (int k = 0; k < n; ++k) {
-    write_decomposition(face_folder_name(folder, k), d, k, inputs, photo.path);
-    if (options.contact_sheet) sheet_rows.push_back(contact_sheet_row(d, k, inputs));
+    if (outputs.has(PhotoOutput::kFaceFolders)) write_decomposition(face_folder_name(folder, k), d, k, inputs, photo.path);
+    if (sheet) sheet_rows.push_back(contact_sheet_row(d, k, inputs));
   }
 
   auto at = [&](const std::string& name) { return (fs::path(folder) / name).string(); };
+  // faces.json whatever the outputs: where the faces are, and their lights.
   const std::string json = faces_json(photo.path, photo.crops, photo.photo_lights, photo.decomposition.light_solve, options);
   write_file_atomically(at("faces.json"), json.data(), json.size());
-  // The photo-level pictures, each made and encoded by a job (the largest first), then written.
+  // The photo-level pictures asked for, each made and encoded by a job (the largest first), then written.
   const RgbImage& input = photo.photo;
   const std::vector<float>& alpha = layers.alpha;
-  const std::vector<uint8_t> input_srgb8 = options.transparent ? std::vector<uint8_t>() : photo_srgb8(input, alpha);
+  const bool any_png = outputs.has(PhotoOutput::kAlbedo) || outputs.has(PhotoOutput::kNormal) ||
+                       outputs.has(PhotoOutput::kVisibility) || outputs.has(PhotoOutput::kShading) ||
+                       outputs.has(PhotoOutput::kReconstruction);
+  const std::vector<uint8_t> input_srgb8 =
+      options.transparent || !any_png ? std::vector<uint8_t>() : photo_srgb8(input, alpha);
   const bool transparent = options.transparent;
   std::vector<EncodeJob> jobs;
-  jobs.push_back({at("photo.exr"), [&] {
-    // The photo and its alpha as 32-bit floats (the input kept exactly); the layers the network
-    // made as 16-bit halves (docs/photos.md: half the file, and faster to write). Read where
-    // they lie: no planar copy of the 25 channels.
-    std::vector<ExrChannel> channels;
-    for (int c = 0; c < 3; ++c) channels.push_back({std::string(1, "RGB"[c]), input.pixels.data() + c, 3, false});
-    channels.push_back({"A", alpha.data(), 1, false});
-    auto add = [&](const std::string& layer, const char* components, const std::vector<float>& planes) {
-      for (size_t c = 0; components[c]; ++c)
-        channels.push_back({layer + "." + components[c], planes.data() + c * plane, 1, true});
-    };
-    add("albedo", "RGB", layers.albedo);
-    add("normal", "XYZ", layers.normal);
-    add("visibility", "012345678", layers.visibility);
-    add("shading", "RGB", layers.shading);
-    add("reconstruction", "RGB", layers.reconstruction);
-    return encode_exr(at("photo.exr"), w, h, channels,
-                      {{"facetool:source", photo.path}, {"facetool:faces", std::to_string(n)}});
-  }});
-  for (const char* layer : {"albedo", "shading", "reconstruction", "normal", "visibility"}) {
+  if (outputs.has(PhotoOutput::kExr))
+    jobs.push_back({at("photo.exr"), [&] {
+      // The photo and its alpha as 32-bit floats (the input kept exactly); the layers the network
+      // made as 16-bit halves (docs/photos.md: half the file, and faster to write). Read where
+      // they lie: no planar copy of the 25 channels.
+      std::vector<ExrChannel> channels;
+      for (int c = 0; c < 3; ++c) channels.push_back({std::string(1, "RGB"[c]), input.pixels.data() + c, 3, false});
+      channels.push_back({"A", alpha.data(), 1, false});
+      auto add = [&](const std::string& layer, const char* components, const std::vector<float>& planes) {
+        for (size_t c = 0; components[c]; ++c)
+          channels.push_back({layer + "." + components[c], planes.data() + c * plane, 1, true});
+      };
+      add("albedo", "RGB", layers.albedo);
+      add("normal", "XYZ", layers.normal);
+      add("visibility", "012345678", layers.visibility);
+      add("shading", "RGB", layers.shading);
+      add("reconstruction", "RGB", layers.reconstruction);
+      return encode_exr(at("photo.exr"), w, h, channels,
+                        {{"facetool:source", photo.path}, {"facetool:faces", std::to_string(n)}});
+    }});
+  const std::pair<PhotoOutput, const char*> layer_pngs[] = {{PhotoOutput::kAlbedo, "albedo"},
+                                                           {PhotoOutput::kShading, "shading"},
+                                                           {PhotoOutput::kReconstruction, "reconstruction"},
+                                                           {PhotoOutput::kNormal, "normal"},
+                                                           {PhotoOutput::kVisibility, "visibility"}};
+  for (const auto& [output, layer] : layer_pngs) {
+    if (!outputs.has(output)) continue;
     const std::string path = at(std::string(layer) + ".png");
-    jobs.push_back({path, [&, layer, path] { return layer_png(path, layer, photo, input_srgb8, transparent); }});
+    jobs.push_back({path, [&, layer = layer, path] { return layer_png(path, layer, photo, input_srgb8, transparent); }});
   }
-  if (options.contact_sheet)
+  if (sheet)
     jobs.push_back({at("contact_sheet.png"), [&] {
       const int width = sheet_rows[0].width;
       std::vector<RgbImage> rows = sheet_rows;
@@ -273,7 +293,9 @@ void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, 
 
   // face_<k>/ folders of an earlier run of this photo that found more faces: its results are
   // replaced by this run's, which has fewer faces (faces.json lists them).
-  remove_stale_face_folders(folder, n);
+  // (Without face-folders in the outputs, the face folders of an earlier run are left alone, as
+  // every other file not asked for is.)
+  if (outputs.has(PhotoOutput::kFaceFolders)) remove_stale_face_folders(folder, n);
   if (options.with_fit) {  // docs/fit.md: the fit's products beside the network's
     std::vector<DetectedFace> faces;
     for (const FaceCrop& c : photo.crops) faces.push_back(c.face);

@@ -8,12 +8,14 @@
 
 namespace facetool {
 
-// Writes into `folder` (created if needed): one face_<k>/ folder per face (decomposition_files.h),
-// faces.json (boxes, scores, landmarks, transforms, lights in the photo's frame), albedo,
-// shading, reconstruction, normal and visibility PNGs at the photo's resolution (over the
-// photo, or transparent outside the faces with options.transparent), photo.exr (every channel,
-// alpha = face coverage; the photo and alpha 32-bit, the network's layers 16-bit half floats)
-// and, with options.contact_sheet, contact_sheet.png.
+// Writes into `folder` (created if needed) faces.json (boxes, scores, landmarks, transforms,
+// lights in the photo's frame) and the outputs in options.outputs (photo_outputs.h): one
+// face_<k>/ folder per face (decomposition_files.h), albedo, shading, reconstruction, normal and
+// visibility PNGs at the photo's resolution (over the photo, or transparent outside the faces
+// with options.transparent), photo.exr (every channel, alpha = face coverage; the photo and
+// alpha 32-bit, the network's layers 16-bit half floats) and contact_sheet.png. Files of outputs
+// not asked for are neither written nor removed. facetool::Error when `photo` lacks a layer the
+// outputs need (photo.layers.made).
 void write_photo_files(const std::string& folder, const DecomposedPhoto& photo, const PhotoInferOptions& options);
 
 // The bytes of one photo-level layer PNG as write_photo_files writes it over the photo (not

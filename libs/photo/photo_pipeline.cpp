@@ -123,7 +123,7 @@ std::vector<DecomposedPhoto> PhotoDecomposer::decompose_found(std::vector<FoundP
 
 DecomposedPhoto PhotoDecomposer::assemble(FoundPhoto photo, const Decomposition& faces) const {
   return assemble_decomposed_photo(photo.path, std::move(photo.photo), std::move(photo.crops), faces,
-                                   options_.feather, options_.upsample);
+                                   options_.feather, options_.upsample, options_.layers);
 }
 
 std::vector<Decomposition> PhotoDecomposer::decompose_faces(const std::vector<FoundPhoto>& photos) {
@@ -166,7 +166,7 @@ DecomposedPhoto PhotoDecomposer::decompose_file(const std::string& path) {
 
 DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
                                           const Decomposition& decomposition, double feather,
-                                          Upsample upsample) {
+                                          Upsample upsample, PhotoLayerSet made) {
   DecomposedPhoto out;
   out.path = path;
   out.photo = std::move(photo);
@@ -181,12 +181,16 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
   PhotoLayers& layers = out.layers;
   layers.width = w;
   layers.height = h;
+  layers.made = made;
+  const bool albedo = made.has(PhotoLayer::kAlbedo), normals = made.has(PhotoLayer::kNormal);
+  const bool visibilities = made.has(PhotoLayer::kVisibility), shadings = made.has(PhotoLayer::kShading);
+  const bool reconstructions = made.has(PhotoLayer::kReconstruction);
   layers.alpha.assign(plane, 0.0f);
-  layers.albedo.assign(plane * 3, 0.0f);
-  layers.normal.assign(plane * 3, 0.0f);
-  layers.visibility.assign(plane * 9, 0.0f);
-  layers.shading.assign(plane * 3, 0.0f);
-  layers.reconstruction.assign(plane * 3, 0.0f);
+  if (albedo) layers.albedo.assign(plane * 3, 0.0f);
+  if (normals) layers.normal.assign(plane * 3, 0.0f);
+  if (visibilities) layers.visibility.assign(plane * 9, 0.0f);
+  if (shadings) layers.shading.assign(plane * 3, 0.0f);
+  if (reconstructions) layers.reconstruction.assign(plane * 3, 0.0f);
   const std::vector<float> ones(crop_plane, 1.0f);
   const bool guided = upsample == Upsample::kGuided;
 
@@ -196,24 +200,34 @@ DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage phot
     const Similarity2& t = c.alignment.photo_to_crop;
     out.regions.push_back(paste_region(w, h, t, crop_size, c.mask_polygon, feather));
     const PasteRegion& region = out.regions.back();
-    std::vector<float> normal = face_planes(d.normal, k, 3, crop_size);
-    std::vector<float> visibility = face_planes(d.visibility, k, 9, crop_size);
-    rotate_normals_to_photo(normal.data(), crop_plane, t);
-    rotate_visibility_to_photo(visibility.data(), crop_plane, t);
-    const std::vector<float> shading = face_planes(d.shading, k, 3, crop_size);
     paste_channels(region, ones.data(), 1, layers.alpha.data(), w, h);
-    if (guided) {
-      const FaceGuide guide = face_guide(out.photo, region);
-      paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, guide,
-                            layers.albedo.data(), w, h, false, 0.0f, 1.0f);
-      paste_channels_guided(region, normal.data(), 3, guide, layers.normal.data(), w, h, true, 0.0f, 0.0f);
-    } else {
-      paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
-      paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
+    std::vector<float> normal;
+    if (normals) {
+      normal = face_planes(d.normal, k, 3, crop_size);
+      rotate_normals_to_photo(normal.data(), crop_plane, t);
     }
-    paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
-    paste_channels(region, shading.data(), 3, layers.shading.data(), w, h);
-    paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(), w, h);
+    if (guided && (albedo || normals)) {
+      const FaceGuide guide = face_guide(out.photo, region);
+      if (albedo)
+        paste_channels_guided(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, guide,
+                              layers.albedo.data(), w, h, false, 0.0f, 1.0f);
+      if (normals)
+        paste_channels_guided(region, normal.data(), 3, guide, layers.normal.data(), w, h, true, 0.0f, 0.0f);
+    } else {
+      if (albedo)
+        paste_channels(region, face_planes(d.albedo, k, 3, crop_size).data(), 3, layers.albedo.data(), w, h);
+      if (normals) paste_channels(region, normal.data(), 3, layers.normal.data(), w, h);
+    }
+    if (visibilities) {
+      std::vector<float> visibility = face_planes(d.visibility, k, 9, crop_size);
+      rotate_visibility_to_photo(visibility.data(), crop_plane, t);
+      paste_channels(region, visibility.data(), 9, layers.visibility.data(), w, h);
+    }
+    if (shadings)
+      paste_channels(region, face_planes(d.shading, k, 3, crop_size).data(), 3, layers.shading.data(), w, h);
+    if (reconstructions)
+      paste_channels(region, face_planes(d.reconstruction, k, 3, crop_size).data(), 3, layers.reconstruction.data(),
+                     w, h);
     sh::RgbLight light;
     for (int i = 0; i < sh::kLightCoeffCount; ++i)
       light[i] = d.light[static_cast<size_t>(k) * sh::kLightCoeffCount + i];

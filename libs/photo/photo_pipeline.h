@@ -15,6 +15,7 @@
 #include "libs/image/crop_framing.h"
 #include "libs/inference/batched_decomposition.h"
 #include "libs/inference/decomposer.h"
+#include "libs/photo/photo_outputs.h"
 #include "core/sh/sh_types.h"
 #include "core/util/error.h"
 
@@ -43,7 +44,13 @@ struct PhotoInferOptions {
   // The framing the model was trained at (its weights' "framing" metadata; v1 by default).
   CropFraming framing;
   bool transparent = false;      // --transparent: PNGs transparent outside the faces
-  bool contact_sheet = true;
+  // The photo-level layers pasted back (Python's layers=; infer: those its outputs need). The
+  // network, light solve and crop-level render run whatever the set: the light and albedo of
+  // every face follow from them.
+  PhotoLayerSet layers;
+  // The files write_photo_files writes per photo (--outputs; --no-contact-sheet takes one out).
+  // Its layers() must be in `layers`.
+  PhotoOutputs outputs;
   int batch = 8;
   const PhotoFitter* with_fit = nullptr;  // --with-fit: the landmark fit too, in <photo folder>/fit/
   // The face model for a network that takes the fit's normals as input (NetworkConfig::
@@ -81,6 +88,8 @@ struct PhotoLayers {
   std::vector<float> visibility;      // [9][w*h] SH coefficients
   std::vector<float> shading;         // [3][w*h]
   std::vector<float> reconstruction;  // [3][w*h]
+  // The layers made (PhotoInferOptions::layers); the others are left empty.
+  PhotoLayerSet made;
 };
 
 // A photo taken apart once: its faces' crops (best detection score first), the network's
@@ -166,10 +175,12 @@ class PhotoDecomposer {
 // estimated shading at the photo's resolution and each face's light turned into the photo's
 // frame. `decomposition` holds one face per crop (the tests give synthetic ones). With
 // Upsample::kGuided, albedo and normals go through paste_channels_guided (guided_paste.h);
-// everything else, and everything with kBilinear, through paste_channels.
+// everything else, and everything with kBilinear, through paste_channels. Only the layers in
+// `layers` are pasted back (alpha always); the others stay empty.
 DecomposedPhoto assemble_decomposed_photo(const std::string& path, RgbImage photo, std::vector<FaceCrop> crops,
                                           const Decomposition& decomposition, double feather,
-                                          Upsample upsample = Upsample::kBilinear);
+                                          Upsample upsample = Upsample::kBilinear,
+                                          PhotoLayerSet layers = PhotoLayerSet::all());
 
 // Face k's crop-level planes of `d`: `channels` planes of S*S from the array `all` ([N][C][S][S]).
 std::vector<float> face_planes(const std::vector<float>& all, int k, int channels, int crop_size);

@@ -23,6 +23,9 @@ sh::Mat3 transpose(const sh::Mat3& m) {
 
 RelitPhoto relight_photo(const DecomposedPhoto& photo, const sh::RgbLight& light,
                          const RelightSettings& settings, RendererPlugin& renderer, Backend& backend) {
+  check(settings.mode != relight::Mode::Ratio || photo.layers.made.has(PhotoLayer::kShading),
+        "relighting by the ratio of shadings needs the photo's shading layer, which was not computed (the layers "
+        "asked of decompose(), layers=, left it out): add 'shading' to them, or relight in 'render' mode");
   const Decomposition& d = photo.decomposition;
   const int n = d.count, s = d.size, w = photo.photo.width, h = photo.photo.height;
   const size_t plane = static_cast<size_t>(w) * h, crop_plane = static_cast<size_t>(s) * s;

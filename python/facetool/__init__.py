@@ -97,7 +97,8 @@ def decompose(image, model=None, backend="cpu", **options):
 
     image: (H, W, 3) numpy array (uint8: sRGB; float32/float64: linear RGB) or a file path.
     model: a facetool.Model (None: the shipped model on `backend`, loaded once).
-    options: max_faces, min_face_size, min_score, face_region ("auto", "hull" or "forehead"), feather, batch (see Model.decompose).
+    options: max_faces, min_face_size, min_score, face_region ("auto", "hull" or "forehead"), feather, batch,
+    layers (the photo-level layers to compute, e.g. ["normal"]; None: every one) (see Model.decompose).
     Raises facetool.Error when no face is found, TypeError/ValueError for an unusable array.
     """
     model = model if model is not None else _default_model(backend)

@@ -584,6 +584,8 @@ bench/width-0|--width|bench network --width 0
 bench/input-size-0|--input-size|bench render --input-size 0
 bench/train-batch-negative|--train-batch|bench network --train-batch=-3
 infer/no-images|input images|infer --aligned --init random -o {OUT}/infer
+infer/outputs-unknown|nonsense|infer --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --outputs normal,nonsense
+infer/outputs-with-aligned|--outputs|infer --aligned --init random --input-size 32 --width 8 {FX}/face.png -o {OUT}/infer --outputs normal
 infer/no-output|-o|infer --aligned --init random {FX}/face.png
 infer/model-and-init|--model|infer --aligned --init random --model {FX}/raw.safetensors {FX}/face.png -o {OUT}/infer
 infer/init-unknown|--init|infer --init zeros {FX}/face.png -o {OUT}/infer

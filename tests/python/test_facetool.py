@@ -303,6 +303,54 @@ def test_no_face_and_bad_relight_inputs(model, photo):
         model.relight("not a photo", photo.faces[0].light_photo)
 
 
+LAYERS = {"albedo": 3, "normal": 3, "visibility": 9, "shading": 3, "reconstruction": 3}
+
+
+@needs_photo_model
+@pytest.mark.parametrize("asked", [["normal"], ["albedo", "shading"], "visibility", ["reconstruction"]])
+def test_layers_gives_the_full_decompositions_arrays_for_those_asked_and_an_error_for_the_others(photo, model, asked):
+    # The reference: the `photo` fixture, a decompose of the same file with every layer.
+    part = model.decompose_file(PHOTO, layers=asked)
+    names = [asked] if isinstance(asked, str) else asked
+    np.testing.assert_array_equal(part.alpha, photo.alpha)
+    for name, channels in LAYERS.items():
+        if name in names:
+            got = getattr(part, name)
+            assert got.shape == photo.image.shape[:2] + (channels,)
+            np.testing.assert_array_equal(got, getattr(photo, name))  # the same computation: equal exactly
+        else:
+            with pytest.raises(facetool.Error, match=r"layers=") as raised:
+                getattr(part, name)
+            assert f"the photo's {name} layer was not computed" in str(raised.value)
+    # The faces (crop-level results, lights, coverage) are computed whatever the list.
+    for mine, full in zip(part.faces, photo.faces):
+        np.testing.assert_array_equal(mine.normal, full.normal)
+        np.testing.assert_array_equal(mine.albedo, full.albedo)
+        np.testing.assert_array_equal(mine.light_photo, full.light_photo)
+        np.testing.assert_array_equal(mine.coverage, full.coverage)
+
+
+@needs_photo_model
+def test_layers_from_an_array_and_bad_layer_names(model):
+    image = facetool.read_image(PHOTO)
+    full = model.decompose(image)
+    normal_only = facetool.decompose(image, model=model, layers=["normal"])
+    np.testing.assert_array_equal(normal_only.normal, full.normal)
+    with pytest.raises(facetool.Error, match="layers="):
+        normal_only.albedo
+    # Ratio relighting reads the shading layer: a photo without it says so.
+    with pytest.raises(facetool.Error, match="shading"):
+        model.relight(normal_only, full.faces[0].light_photo)
+    with pytest.raises(ValueError, match="unknown layer 'normals'.*albedo, normal, visibility, shading, reconstruction"):
+        model.decompose(image, layers=["normals"])
+    with pytest.raises(ValueError, match="empty list"):
+        model.decompose(image, layers=[])
+    with pytest.raises(ValueError, match="named twice"):
+        model.decompose(image, layers=["normal", "normal"])
+    with pytest.raises(TypeError, match="layers"):
+        model.decompose(image, layers=3)
+
+
 @needs_photo_model
 def test_gil_is_released_during_compute(model):
     image = facetool.read_image(PHOTO)

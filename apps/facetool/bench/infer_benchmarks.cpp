@@ -14,7 +14,10 @@ namespace facetool {
 void run_infer_benchmarks(Decomposer& decomposer, Backend& backend,
                           const InferBenchOptions& options, std::ostream& out) {
   out << "infer on " << options.photos.size() << " photo(s), crop " << options.crop_size
-      << ", batch " << options.photo.batch << ", every output written, each photo "
+      << ", batch " << options.photo.batch << ", "
+      << (options.photo.outputs.is_all() ? std::string("every output written")
+                                         : "outputs " + options.photo.outputs.names() + " (and faces.json)")
+      << ", each photo "
       << options.repeats << " time(s) in one run, after one warm-up photo\n";
   const std::unique_ptr<FaceDetector> detector = make_face_detector(options.photo);
   PhotoDecomposer photo_decomposer(*detector, decomposer, backend, options.crop_size, options.photo);

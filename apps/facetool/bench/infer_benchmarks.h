@@ -19,7 +19,8 @@ struct InferBenchOptions {
   PhotoInferOptions photo;
 };
 
-// Runs infer_photos once over the photos listed `repeats` times, with every output written, and
+// Runs infer_photos once over the photos listed `repeats` times, writing options.photo.outputs
+// (with only the layers they need pasted back, options.photo.layers), and
 // prints photos/s and each stage's ms per photo (load models, decode, detect, landmarks, align,
 // fit prior, network, render, paste-back, encode, write, fsync) and the part no stage accounts for.
 void run_infer_benchmarks(Decomposer& decomposer, Backend& backend,

@@ -16,6 +16,7 @@
 #include "apps/facetool/commands/command.h"
 #include "apps/facetool/commands/command_options.h"
 #include "libs/model/default_model.h"
+#include "libs/photo/photo_outputs.h"
 #include "libs/fit/fit_basis.h"
 #include "libs/synth/face_model.h"
 #include "apps/facetool/infer/network_loading.h"
@@ -42,6 +43,7 @@ struct BenchSettings {
   std::string model;       // bench infer --model (empty: the shipped model)
   std::string face_model;  // bench infer --face-model: for a model with the fit prior
   bool mirror_average = true;  // bench infer: as infer, unless --no-mirror-average
+  PhotoOutputs outputs;        // bench infer --outputs: as infer's
 };
 
 void bench_ops(CommandContext& context, const BenchSettings& settings) {
@@ -139,6 +141,8 @@ void bench_infer(CommandContext& context, const BenchSettings& settings) {
   InferBenchOptions options;
   options.photo.framing = loaded.framing;  // as infer does: crops framed as the model was trained
   options.photo.prior_basis = basis.get();
+  options.photo.outputs = settings.outputs;  // as infer --outputs: only those files, only what they need
+  options.photo.layers = settings.outputs.layers();
   options.photos = expand_photo_inputs({settings.photos});
   check(!options.photos.empty(), "bench infer: no photos in '", settings.photos, "'");
   options.crop_size = loaded.network->config().input_size;
@@ -189,12 +193,15 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
       ("photo", po::value<std::string>()->default_value("examples/photos/grace_hopper_512x512.jpg"),
        "photo: a photo with one face (also timed enlarged to 12 megapixels)")
       ("photos", po::value<std::string>()->default_value("examples/photos")->value_name("PHOTO|DIR"),
-       "infer: the photos (a folder: its image files), run --repeats times with every output written")
+       "infer: the photos (a folder: its image files), run --repeats times with every output written (or --outputs)")
       ("model", po::value<std::string>()->value_name("WEIGHTS"),
        "infer: network weights (default: the shipped model)")
       ("face-model", po::value<std::string>()->value_name("DIR"),
        "infer: the ICT-FaceKit FaceXModel folder, for weights that take the fit's normals as input")
       ("no-mirror-average", "infer: one network pass per face, as infer --no-mirror-average")
+      ("outputs", po::value<std::string>()->value_name("LIST"),
+       ("infer: write only these outputs of each photo, as infer --outputs (" + PhotoOutputs::valid_names() +
+        "; default all)").c_str())
       ("save", po::bool_switch(),
        "conv: record the fastest algorithm per layer shape in this machine's cache; network: time "
        "the fused forward's batch chunks (one image, the rule's, twice the rule's, the whole batch) and record the "
@@ -238,6 +245,14 @@ int run_bench(CommandContext& context, const std::vector<std::string>& args) {
   settings.photo = values["photo"].as<std::string>();
   settings.photos = values["photos"].as<std::string>();
   settings.save = values["save"].as<bool>();
+  if (values.count("outputs")) {
+    if (target != "infer") throw UsageError("--outputs is bench infer's (infer --outputs), not bench " + target + "'s");
+    try {
+      settings.outputs = PhotoOutputs::parse(values["outputs"].as<std::string>(), "--outputs");
+    } catch (const Error& e) {
+      throw UsageError("bench infer: " + std::string(e.what()));
+    }
+  }
   if (values.count("model")) settings.model = values["model"].as<std::string>();
   if (values.count("face-model")) settings.face_model = values["face-model"].as<std::string>();
   settings.mirror_average = values.count("no-mirror-average") == 0;

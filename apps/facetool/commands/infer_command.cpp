@@ -19,6 +19,7 @@
 #include "libs/inference/batched_decomposition.h"
 #include "libs/inference/decomposer.h"
 #include "libs/photo/photo_files.h"
+#include "libs/photo/photo_outputs.h"
 #include "libs/model/network_weights.h"
 #include "libs/model/safetensors.h"
 #include "libs/view/view_files.h"
@@ -41,7 +42,13 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
        "decompose only the inputs i, i+n, i+2n, ... (Slurm array jobs; same names as unsharded)")
       ("renderer", po::value<std::string>()->default_value("sh_renderer"), "renderer plugin")
       ("contact-sheet", po::value<std::string>(), "with --aligned: contact sheet PNG (default: <output>/contact_sheet.png, with --shard i/n <output>/contact_sheet-<i>-of-<n>.png); photos get one each in their folder")
-      ("no-contact-sheet", "do not write a contact sheet")
+      ("no-contact-sheet", "do not write a contact sheet (as --outputs without contact-sheet)")
+      ("outputs", po::value<std::string>()->value_name("LIST"),
+       ("photos: write only these of each photo's files, and compute only what they need (comma-separated: " +
+        PhotoOutputs::valid_names() +
+        "; default all). albedo, normal, visibility, shading, reconstruction: that layer's PNG; exr: photo.exr; "
+        "contact-sheet: contact_sheet.png; face-folders: the face_<k>/ folders; faces: faces.json, which is "
+        "written whatever the list (where the faces are, and their lights)").c_str())
       ("raw-output", po::value<std::string>(), "with --aligned: also write the raw outputs (albedo, normal, visibility, light) of all images to this .safetensors file")
       ("aligned", "inputs are face crops, one face each: aligned by their landmarks when a face is found in the (padded) crop, otherwise stretched to the network's input (reported)")
       ("stretch", "with --aligned: stretch every crop to the network's input as it is, without looking for its landmarks (crops already in the network's framing, e.g. synth samples)")
@@ -65,7 +72,8 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
           "holds albedo/normal/visibility/shading/\nreconstruction.png and photo.exr (all "
           "channels, alpha = face coverage), faces.json (boxes, scores,\nlandmarks, transforms, "
           "light in the photo's frame), contact_sheet.png (faces and landmarks\ndrawn) and one "
-          "face_<k>/ folder per face with the crop-level files below. A photo without a\nface "
+          "face_<k>/ folder per face with the crop-level files below; --outputs LIST\nwrites "
+          "only those named (faces.json always) and skips the work the others need. A photo\nwithout a face "
           "is reported and skipped; the exit status is 1 if any photo failed (docs/photos.md).\n"
           "The landmark model (dlib, iBUG 300-W training data) is for research use only: no "
           "commercial use.\n\nWith --aligned the inputs are face crops, one face each: the best "
@@ -105,6 +113,22 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   if (!aligned && values.count("raw-output")) throw UsageError("infer: --raw-output needs --aligned");
   if (!aligned && values.count("stretch")) throw UsageError("infer: --stretch needs --aligned");
   if (aligned && values.count("view")) throw UsageError("infer: --view needs photos, not --aligned crops");
+  if (aligned && values.count("outputs")) throw UsageError("infer: --outputs needs photos, not --aligned crops");
+  PhotoOutputs outputs;
+  if (values.count("outputs")) {
+    try {
+      outputs = PhotoOutputs::parse(values["outputs"].as<std::string>(), "--outputs");
+    } catch (const Error& e) {
+      throw UsageError(std::string("infer: ") + e.what());
+    }
+  }
+  if (values.count("view"))  // the page reads photo.exr, the layer PNGs and the face folders
+    for (PhotoOutput needed : {PhotoOutput::kExr, PhotoOutput::kAlbedo, PhotoOutput::kNormal, PhotoOutput::kVisibility,
+                               PhotoOutput::kShading, PhotoOutput::kReconstruction, PhotoOutput::kFaceFolders})
+      if (!outputs.has(needed))
+        throw UsageError("infer: --view reads photo.exr, the five layer PNGs and the face folders; --outputs '" +
+                         values["outputs"].as<std::string>() + "' leaves some out (add exr,albedo,normal,visibility,"
+                         "shading,reconstruction,face-folders, or leave out --view)");
   std::vector<std::string> files =
       aligned ? values["images"].as<std::vector<std::string>>()
               : expand_photo_inputs(values["images"].as<std::vector<std::string>>());
@@ -136,7 +160,9 @@ int run_infer(CommandContext& context, const std::vector<std::string>& args) {
   }
   PhotoInferOptions photo_options = photo_options_from(values);
   photo_options.batch = batch;
-  photo_options.contact_sheet = !values.count("no-contact-sheet");
+  photo_options.outputs = outputs;
+  if (values.count("no-contact-sheet")) photo_options.outputs.remove(PhotoOutput::kContactSheet);
+  photo_options.layers = photo_options.outputs.layers();  // only the layers the files read
 
   Backend& backend = get_backend(context.backend);
   const LoadedNetwork loaded = load_network(context, values, backend);
