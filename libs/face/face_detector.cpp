@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <iostream>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "libs/face/face_detector_engine.h"
@@ -83,10 +83,19 @@ bool FaceDetector::avx2_available() { return cpu_runs_avx2_engine(); }
 
 void FaceDetector::prepare(DetectorChoice choice) { engine_->prepare(choice); }
 
+namespace {
+
+// Pixels of the photo padded for detection (DetectionOptions::padding of its shorter side on every side).
+double padded_pixels(int width, int height, double padding) {
+  const double pad = 2 * padding * std::min(width, height);
+  return (width + pad) * (height + pad);
+}
+
+}  // namespace
+
 double smallest_searchable_face(int width, int height, double padding) {
   constexpr double kWindow = 80, kMaxEnlargement = 4, kMaxSearchPixels = 32e6;
-  const double shorter = std::min(width, height);
-  const double padded = (width + 2 * padding * shorter) * (height + 2 * padding * shorter);
+  const double padded = padded_pixels(width, height, padding);
   const double enlargement = std::min(kMaxEnlargement, std::sqrt(kMaxSearchPixels / std::max(padded, 1.0)));
   // Rounded up to a size band's start (window x 2^k, detection_bands.h), which is what is searched.
   return kWindow * std::exp2(std::ceil(std::log2(1.0 / enlargement) - 1e-9));
@@ -104,20 +113,22 @@ bool looks_again_for_small_faces(const RgbImage& photo, const DetectionOptions& 
              automatic_min_face(photo);
 }
 
-}  // namespace
-
-namespace {
+// The smallest face detect() may search for: the minimum given (raised to what the search can
+// afford), or the automatic one and its second look's.
+double smallest_face_searched(const RgbImage& photo, const DetectionOptions& options) {
+  const double smallest = smallest_searchable_face(photo.width, photo.height, options.padding);
+  if (options.min_face_size > 0) return std::max(options.min_face_size, smallest);
+  return looks_again_for_small_faces(photo, options) ? std::max(kSmallFaceFallback, smallest) : automatic_min_face(photo);
+}
 
 // Memory a detection needs beyond the photo: the padded, scaled grey photo and its HOG features
 // (about 12 bytes a searched pixel) and, on the first detection of the process, OpenBLAS's
 // buffers (two of 128 MB; dlib's landmark alignment calls into it, and OpenBLAS retries a failed
 // allocation forever instead of failing, so the budget is checked before).
 uint64_t detection_bytes(const RgbImage& photo, const DetectionOptions& options, bool first) {
-  const double shorter = std::min(photo.width, photo.height);
-  const double padded = (photo.width + 2 * options.padding * shorter) * (photo.height + 2 * options.padding * shorter);
-  const double min_face = options.min_face_size > 0 ? options.min_face_size : automatic_min_face(photo);
-  const double scale = std::max(1.0, 80.0 / std::max(min_face, 1.0));
-  return static_cast<uint64_t>(padded * scale * scale * 12) + (first ? (uint64_t{320} << 20) : 0);
+  const double scale = std::max(1.0, 80.0 / smallest_face_searched(photo, options));
+  return static_cast<uint64_t>(padded_pixels(photo.width, photo.height, options.padding) * scale * scale * 12) +
+         (first ? (uint64_t{320} << 20) : 0);
 }
 
 }  // namespace
@@ -170,12 +181,7 @@ std::string no_face_reason(const RgbImage& photo, const DetectionOptions& option
         << ") is smaller than --min-face-size " << options.min_face_size;
     return why.str();
   }
-  const double min_size =
-      options.min_face_size > 0
-          ? std::max(options.min_face_size, smallest_searchable_face(photo.width, photo.height, options.padding))
-      : looks_again_for_small_faces(photo, options)
-          ? std::max(kSmallFaceFallback, smallest_searchable_face(photo.width, photo.height, options.padding))
-          : automatic_min_face(photo);
+  const double min_size = smallest_face_searched(photo, options);
   why << "no face found by "
       << (options.detector == DetectorChoice::automatic ? "the HOG or the CNN detector"
           : options.detector == DetectorChoice::hog     ? "the HOG detector (try --detector cnn)"
