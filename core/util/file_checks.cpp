@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <fstream>
 
 #include "core/util/error.h"
@@ -136,22 +137,24 @@ void check_output_is_not_an_input(const std::string& output, const std::string& 
 void check_inputs_outside_output_folders(const std::vector<std::string>& inputs,
                                          const std::vector<std::string>& folders, const std::string& option) {
   namespace fs = std::filesystem;
-  std::vector<fs::path> written;
+  // The folders by canonical path (a set: a run of thousands of photos has as many folders).
+  std::map<fs::path, const std::string*> written;
   for (const std::string& folder : folders) {
     std::error_code ec;
     const fs::path canonical = fs::weakly_canonical(fs::absolute(folder, ec), ec);
-    if (!ec) written.push_back(canonical);
+    if (!ec) written.emplace(canonical, &folder);
   }
   for (const std::string& input : inputs) {
     std::error_code ec;
     const fs::path canonical = fs::canonical(input, ec);
     if (ec) continue;  // a missing input is named by its reader
-    for (size_t k = 0; k < written.size(); ++k)
-      for (fs::path up = canonical.parent_path(); !up.empty(); up = up.parent_path()) {
-        check(up != written[k], "the input '", input, "' lies in '", folders[k], "', which this run writes (",
-              option, "): it could be replaced; move it or choose another output folder");
-        if (up == up.root_path()) break;
-      }
+    for (fs::path up = canonical.parent_path(); !up.empty(); up = up.parent_path()) {
+      const auto found = written.find(up);
+      if (found != written.end())
+        fail("the input '", input, "' lies in '", *found->second, "', which this run writes (", option,
+             "): it could be replaced; move it or choose another output folder");
+      if (up == up.root_path()) break;
+    }
   }
 }
 
