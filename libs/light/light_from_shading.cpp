@@ -25,11 +25,11 @@ constexpr double kMinCoarseZ = -0.5;   // the coarse search stops 120 degrees fr
 constexpr int kFineDirections = 1000;
 constexpr double kFineRadiusDeg = 6.0;
 constexpr double kBehindDeg = 90.0;    // a light behind the plane facing the camera is warned of
-constexpr double kFeatureDarkness = 0.75;
+constexpr double kFeatureDarkness = 0.75;  // albedo below this fraction of its blur: a dark feature
 constexpr int kDetailDivisor = 32;          // the albedo's blur radius: the crop's size / this (3 px at 96)
 constexpr int kPixelStride = 2;             // every second pixel of every second row is fitted
 constexpr double kAmbientQuantile = 0.15;   // the ambient's ceiling: this quantile of the darkest pixels
-constexpr double kDarkFace = 0.08;  // the face's median brightness below this fraction of its 99th percentile: warned of  // albedo below this fraction of its blur: a dark feature
+constexpr double kDarkFace = 0.08;  // the face's median brightness below this fraction of its 99th percentile: warned of
 
 // One fitted pixel: its transfer (divided by pi), its colours, its albedo in the fit.
 struct Pixel {
@@ -299,13 +299,7 @@ DistantLight solve_distant_light(const ShadingInputs& in) {
       const double a = in.albedo[c * plane + p];
       px.albedo[c] = smooth[c * plane + p] > 1e-4 ? a / smooth[c * plane + p] * mean_albedo[c] : 0.0;
     }
-    static const double exp_nx = std::getenv("FT_EXP_NX") ? std::atof(std::getenv("FT_EXP_NX")) : 1.0;
-    static const double exp_ny = std::getenv("FT_EXP_NY") ? std::atof(std::getenv("FT_EXP_NY")) : 1.0;
-    sh::Vec3 n{in.normal[p] * exp_nx, in.normal[plane + p] * exp_ny, in.normal[2 * plane + p]};
-    {
-      const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      if (l > 0) for (double& c : n) c /= l;
-    }
+    const sh::Vec3 n{in.normal[p], in.normal[plane + p], in.normal[2 * plane + p]};
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(top < kSaturated) || !(lum > kBlack) || !(len > 1e-6) || !std::isfinite(len)) continue;
     sh::ShCoeffs v;
