@@ -515,6 +515,18 @@ limit_cases() {
     else
       skip_case limits/detect-memory "facetool does not start under a 450 MB address-space limit here"
     fi
+    # Reading EXR samples under 650 MB: the OpenImageIO module maps about 0.4 GB of libraries and
+    # one of them starts threads while it loads; where that failed, eval said OpenImageIO was not
+    # installed, or the process aborted inside the library (issue 55). The budget is checked first.
+    if [ -n "$base" ] && [ "$base" -le 450000 ]; then
+      LIMITS="ulimit -v 650000" run_table_case limits/eval-memory "out of memory while loading the module" \
+        "eval --model {FX}/run/weights.safetensors --data {FX}/data -o {OUT}/eval"
+      LIMITS="ulimit -v 650000" run_table_case limits/pseudo-label-memory "out of memory while loading the module" \
+        "pseudo-label --model {FX}/run/weights.safetensors {FX}/data/sample_00000000.exr -o {OUT}/pl"
+    else
+      skip_case limits/eval-memory "facetool does not start under a 450 MB address-space limit here"
+      skip_case limits/pseudo-label-memory "facetool does not start under a 450 MB address-space limit here"
+    fi
     base=$(smallest_working_memory_limit synth --mesh "$FX/triangle.obj" --lights "$FX/light_sfsnet.txt" \
       -o "$WORK/probe_synth" --size 32 --count 1)
     if [ -n "$base" ]; then
