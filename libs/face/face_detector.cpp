@@ -178,16 +178,18 @@ std::string no_face_reason(const RgbImage& photo, const DetectionOptions& option
   std::ostringstream why;
   if (options.min_face_size > shorter * (1 + 2 * options.padding)) {
     why << "no face: the photo (" << photo.width << " x " << photo.height
-        << ") is smaller than --min-face-size " << options.min_face_size;
+        << ") is smaller than the minimum face size " << options.min_face_size
+        << " (--min-face-size; min_face_size in Python and in the C++ API's DetectionOptions)";
     return why.str();
   }
   const double min_size = smallest_face_searched(photo, options);
   why << "no face found by "
       << (options.detector == DetectorChoice::automatic ? "the HOG or the CNN detector"
-          : options.detector == DetectorChoice::hog     ? "the HOG detector (try --detector cnn)"
+          : options.detector == DetectorChoice::hog     ? "the HOG detector (try the CNN detector: --detector cnn)"
                                                         : "the CNN detector")
       << " among faces of at least " << std::lround(0.8 * min_size)
-      << " pixels (try a smaller --min-face-size)";
+      << " pixels (try a smaller minimum face size: --min-face-size, or min_face_size in Python and in the "
+         "C++ API's DetectionOptions)";
   return why.str();
 }
 
