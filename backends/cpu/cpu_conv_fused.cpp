@@ -6,6 +6,7 @@
 #include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_conv_choice.h"
 #include "backends/cpu/cpu_epilogue.h"
+#include "backends/cpu/cpu_weight_cache.h"
 #include "backends/cpu/cpu_winograd.h"
 #include "core/util/parallel_for.h"
 
@@ -22,9 +23,14 @@ bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, i
       if (!(g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
             g.out_width == g.width))
         return false;
-      Scratch transformed = scratch(winograd_weight_floats(g, out_channels));
-      winograd_convolve(g, batch, out_channels, x, w, nullptr, y, false, transformed.data(),
-                        epilogue);
+      // Inference calls a layer with the same weights again and again: transformed once.
+      const auto transformed = cached_weight_transform(
+          w, static_cast<size_t>(out_channels * g.rows()), winograd_weight_floats(g, out_channels),
+          [&](const float* weights, float* out) {
+            winograd_transform_weights(g, out_channels, weights, out);
+          });
+      winograd_convolve_transformed(g, batch, out_channels, x, transformed->data(), nullptr, y,
+                                    false, epilogue);
       return true;
     }
     case ConvAlgorithm::Dnnl:
