@@ -48,11 +48,11 @@ int64_t pixel_block(const ConvGeometry& g, int64_t block_floats) {
 int64_t ceil_div(int64_t a, int64_t b) { return (a + b - 1) / b; }
 
 // The forward's pixel block: at most pixel_block(), at least 64 pixels, a multiple of 16, an
-// image's pixels cut into equal blocks that share out evenly over the threads
-// (balanced_task_units).
+// image's pixels cut into equal blocks that share out evenly over the threads this call runs on
+// (balanced_task_units, parallel_threads_here).
 int64_t forward_pixel_block(const ConvGeometry& g, int64_t batch) {
   return balanced_task_units(g.pixels(), batch, pixel_block(g, kForwardBlockFloats), 64, 16,
-                             parallel_thread_count());
+                             parallel_threads_here());
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ void CpuBackend::run_branches(int64_t batch, const std::vector<std::function<voi
   // each, and every layer's input read by both cores. Two equal branches (the paper network's
   // albedo and shape halves: residual stack and decoder) on a thread each run their layers
   // whole, inline (parallel_for inside a parallel_for), with their activations in that core's
-  // cache. The same tasks in the same order within each op: the same bits.
+  // cache; their ops see one thread here (parallel_threads_here) and cut their tasks for one.
   const int64_t threads = parallel_thread_count();
   if (batch >= threads || static_cast<int64_t>(branches.size()) < threads) {
     Backend::run_branches(batch, branches);

@@ -329,9 +329,10 @@ struct Tiling {
 };
 
 // Tiles per forward task: at most kTilesPerTask, at least 16, an image's tiles cut into equal
-// tasks that share out evenly over the threads (balanced_task_units).
+// tasks that share out evenly over the threads this call runs on (balanced_task_units,
+// parallel_threads_here).
 int64_t forward_tiles_per_task(const ConvGeometry& g, int64_t batch) {
-  return balanced_task_units(Tiling(g).tiles, batch, kTilesPerTask, 16, 1, parallel_thread_count());
+  return balanced_task_units(Tiling(g).tiles, batch, kTilesPerTask, 16, 1, parallel_threads_here());
 }
 
 // b.v[xi][c][j] = (B^T patch B)[xi] of tile j for every input channel c of image r.n.
