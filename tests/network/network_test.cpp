@@ -98,17 +98,20 @@ TEST(PaperNetwork, OutputShapesForPaperAndSmallConfigurations) {
   }
 }
 
+// A network configuration and the batch it runs.
+struct NetworkRun {
+  NetworkConfig config;
+  int64_t batch;
+};
+
 // Eval on the fused ops (batch norms folded, epilogues, no autograd) against the plain path
 // (ops::set_fused_paths_enabled(false)): odd channel counts (width 2 has a 1-channel first layer,
 // 26 a 13-channel one), batch 1 and 20, and batch-norm statistics that are not the identity.
 TEST(PaperNetwork, FusedEvalMatchesThePlainPath) {
   Backend& be = get_backend("cpu");
-  struct Run {
-    NetworkConfig config;
-    int64_t batch;
-  };
-  for (const Run& run : {Run{{2, 8}, 20}, Run{{26, 14}, 1}, Run{{26, 14}, 20},
-                         Run{{32, 64}, 1}, Run{{14, 66}, 20}}) {
+  for (const NetworkRun& run : {NetworkRun{{2, 8}, 20}, NetworkRun{{26, 14}, 1},
+                                NetworkRun{{26, 14}, 20}, NetworkRun{{32, 64}, 1},
+                                NetworkRun{{14, 66}, 20}}) {
     auto net = make_network(be, run.config, 11);
     randomise_batch_norms(*net, 40);
     const int64_t s = run.config.input_size;
@@ -212,12 +215,9 @@ TEST(PaperNetwork, ShippedModelFusedEvalMatchesThePlainPath) {
 // as for the fused path against the plain one.
 TEST(PaperNetwork, BatchOneGivesEachImageTheWholeBatchsOutputs) {
   Backend& be = get_backend("cpu");
-  struct Run {
-    NetworkConfig config;
-    int64_t batch;
-  };
-  for (const Run& run : {Run{{32, 96}, 20}, Run{{32, 64}, 20}, Run{{128, 128}, 2},
-                         Run{{26, 50}, 5}, Run{{14, 66}, 3}}) {
+  for (const NetworkRun& run : {NetworkRun{{32, 96}, 20}, NetworkRun{{32, 64}, 20},
+                                NetworkRun{{128, 128}, 2}, NetworkRun{{26, 50}, 5},
+                                NetworkRun{{14, 66}, 3}}) {
     auto net = make_network(be, run.config, 13);
     randomise_batch_norms(*net, 60);
     const int64_t s = run.config.input_size;
