@@ -105,6 +105,8 @@ class CpuBackend final : public Backend {
                                  float slope, const Tensor& y) override;
   // cpu_conv_choice.h's chosen_fused_chunk: the rule or this machine's measured choice
   int64_t fused_batch_chunk(int64_t bytes_per_image, int64_t batch) override;
+  // at once, a thread each, when the batch is under the thread count and the branches fill them
+  void run_branches(int64_t batch, const std::vector<std::function<void()>>& branches) override;
   // y = conv(x, w) then the epilogue (nullptr: none) by one given algorithm; false when it does
   // not apply to the shape. For benchmarks and tests that compare the algorithms.
   bool convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, int64_t batch,

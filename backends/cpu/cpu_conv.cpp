@@ -6,6 +6,7 @@
 #include "backends/cpu/cpu_backend_impl.h"
 #include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_im2col.h"
+#include "backends/cpu/cpu_task_split.h"
 #include "backends/cpu/cpu_winograd.h"
 #include "backends/cpu/cpu_workspace.h"
 #include "backends/cpu/gemm.h"
@@ -46,14 +47,12 @@ int64_t pixel_block(const ConvGeometry& g, int64_t block_floats) {
 
 int64_t ceil_div(int64_t a, int64_t b) { return (a + b - 1) / b; }
 
-// The forward's pixel block: pixel_block(), cut smaller (not under 64 pixels) when a small batch
-// would otherwise leave threads without a task (batch 1 at 32x32 was one block, one thread).
+// The forward's pixel block: at most pixel_block(), at least 64 pixels, a multiple of 16, an
+// image's pixels cut into equal blocks that share out evenly over the threads this call runs on
+// (balanced_task_units, parallel_threads_here).
 int64_t forward_pixel_block(const ConvGeometry& g, int64_t batch) {
-  const int64_t block = pixel_block(g, kForwardBlockFloats);
-  const int64_t threads = parallel_thread_count();
-  if (batch * ceil_div(g.pixels(), block) >= threads) return block;
-  const int64_t wanted = ceil_div(g.pixels(), ceil_div(threads, batch));
-  return std::min(block, std::max<int64_t>(64, ceil_div(wanted, 16) * 16));
+  return balanced_task_units(g.pixels(), batch, pixel_block(g, kForwardBlockFloats), 64, 16,
+                             parallel_threads_here());
 }
 
 }  // namespace

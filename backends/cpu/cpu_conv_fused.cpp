@@ -6,6 +6,7 @@
 #include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_conv_choice.h"
 #include "backends/cpu/cpu_epilogue.h"
+#include "backends/cpu/cpu_weight_cache.h"
 #include "backends/cpu/cpu_winograd.h"
 #include "core/util/parallel_for.h"
 
@@ -22,9 +23,14 @@ bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, i
       if (!(g.kernel == 3 && g.stride == 1 && g.pad == 1 && g.out_height == g.height &&
             g.out_width == g.width))
         return false;
-      Scratch transformed = scratch(winograd_weight_floats(g, out_channels));
-      winograd_convolve(g, batch, out_channels, x, w, nullptr, y, false, transformed.data(),
-                        epilogue);
+      // Inference calls a layer with the same weights again and again: transformed once.
+      const auto transformed = cached_weight_transform(
+          w, static_cast<size_t>(out_channels * g.rows()), winograd_weight_floats(g, out_channels),
+          [&](const float* weights, float* out) {
+            winograd_transform_weights(g, out_channels, weights, out);
+          });
+      winograd_convolve_transformed(g, batch, out_channels, x, transformed->data(), nullptr, y,
+                                    false, epilogue);
       return true;
     }
     case ConvAlgorithm::Dnnl:
@@ -37,6 +43,21 @@ bool CpuBackend::convolve_with(ConvAlgorithm algorithm, const ConvGeometry& g, i
 
 int64_t CpuBackend::fused_batch_chunk(int64_t bytes_per_image, int64_t batch) {
   return chosen_fused_chunk(bytes_per_image, batch);
+}
+
+void CpuBackend::run_branches(int64_t batch, const std::vector<std::function<void()>>& branches) {
+  // Batch 1 on two threads cuts each layer in two: about a hundred short jobs with a barrier
+  // each, and every layer's input read by both cores. Two equal branches (the paper network's
+  // albedo and shape halves: residual stack and decoder) on a thread each run their layers
+  // whole, inline (parallel_for inside a parallel_for), with their activations in that core's
+  // cache; their ops see one thread here (parallel_threads_here) and cut their tasks for one.
+  const int64_t threads = parallel_thread_count();
+  if (batch >= threads || static_cast<int64_t>(branches.size()) < threads) {
+    Backend::run_branches(batch, branches);
+    return;
+  }
+  parallel_for_each_item(static_cast<int64_t>(branches.size()),
+                         [&](int64_t i) { branches[static_cast<size_t>(i)](); });
 }
 
 bool CpuBackend::conv2d_fused(const Tensor& x, const Tensor& w, const Tensor& y,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "backends/cpu/cpu_backend_impl.h"
+#include "backends/cpu/cpu_task_split.h"
 #include "backends/cpu/cpu_workspace.h"
 #include "backends/cpu/gemm.h"
 #include "core/util/parallel_for.h"
@@ -136,15 +137,6 @@ void transform_output_channel(const float* w, int64_t co, int64_t out_channels,
       for (int64_t ci = 0; ci < channels; ++ci) row[ci] += c * tap[ci];
     }
   }
-}
-
-void transform_weights(int64_t out_channels, int64_t channels, const float* w, float* u) {
-  parallel_for(out_channels, 1, [&](int64_t begin, int64_t end) {
-    thread_local std::vector<float> taps;
-    taps.resize(static_cast<size_t>(9 * channels));
-    for (int64_t co = begin; co < end; ++co)
-      transform_output_channel(w, co, out_channels, channels, taps.data(), u);
-  });
 }
 
 // Where one task's tiles are: image n, tiles [first, first + count) in row-major tile order.
@@ -336,14 +328,11 @@ struct Tiling {
   }
 };
 
-// Tiles per forward task: kTilesPerTask, or fewer (not under 16) when the batch would otherwise
-// give fewer tasks than threads (batch 1 of a 32x32 output is 64 tiles: one task, one thread).
+// Tiles per forward task: at most kTilesPerTask, at least 16, an image's tiles cut into equal
+// tasks that share out evenly over the threads this call runs on (balanced_task_units,
+// parallel_threads_here).
 int64_t forward_tiles_per_task(const ConvGeometry& g, int64_t batch) {
-  const Tiling whole(g);
-  const int64_t threads = parallel_thread_count();
-  if (batch * whole.tasks_per_image >= threads) return kTilesPerTask;
-  const int64_t tasks_wanted = (threads + batch - 1) / batch;
-  return std::max<int64_t>(16, (whole.tiles + tasks_wanted - 1) / tasks_wanted);
+  return balanced_task_units(Tiling(g).tiles, batch, kTilesPerTask, 16, 1, parallel_threads_here());
 }
 
 // b.v[xi][c][j] = (B^T patch B)[xi] of tile j for every input channel c of image r.n.
@@ -387,15 +376,31 @@ size_t winograd_weight_floats(const ConvGeometry& g, int64_t out_channels) {
   return static_cast<size_t>(kPoints * out_channels * g.channels);
 }
 
+void winograd_transform_weights(const ConvGeometry& g, int64_t out_channels, const float* w,
+                                float* transformed_weights) {
+  parallel_for(out_channels, 1, [&](int64_t begin, int64_t end) {
+    thread_local std::vector<float> taps;
+    taps.resize(static_cast<size_t>(9 * g.channels));
+    for (int64_t co = begin; co < end; ++co)
+      transform_output_channel(w, co, out_channels, g.channels, taps.data(), transformed_weights);
+  });
+}
+
 void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channels,
                        const float* x, const float* w, const float* bias, float* y,
                        bool accumulate, float* transformed_weights, const Epilogue* epilogue) {
+  winograd_transform_weights(g, out_channels, w, transformed_weights);
+  winograd_convolve_transformed(g, batch, out_channels, x, transformed_weights, bias, y,
+                                accumulate, epilogue);
+}
+
+void winograd_convolve_transformed(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                                   const float* x, const float* u, const float* bias, float* y,
+                                   bool accumulate, const Epilogue* epilogue) {
   const int64_t channels = g.channels;
   const int64_t out_plane = g.out_height * g.out_width;
   const int64_t T = kTilesPerTask;  // stride between the vectors of one tile value
   const Tiling tiling(g, forward_tiles_per_task(g, batch));
-  transform_weights(out_channels, channels, w, transformed_weights);
-  const float* u = transformed_weights;
 
   parallel_for(batch * tiling.tasks_per_image, 1, [&](int64_t begin, int64_t end) {
     const TaskBuffers b = task_buffers(channels, out_channels);

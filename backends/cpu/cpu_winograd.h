@@ -26,6 +26,17 @@ void winograd_convolve(const ConvGeometry& g, int64_t batch, int64_t out_channel
                        bool accumulate, float* transformed_weights,
                        const Epilogue* epilogue = nullptr);
 
+// transformed_weights (winograd_weight_floats() floats) = G w G^T for every (co, ci): what
+// winograd_convolve computes at every call, for a caller that keeps it between calls.
+void winograd_transform_weights(const ConvGeometry& g, int64_t out_channels, const float* w,
+                                float* transformed_weights);
+
+// winograd_convolve on weights transformed before (winograd_transform_weights).
+void winograd_convolve_transformed(const ConvGeometry& g, int64_t batch, int64_t out_channels,
+                                   const float* x, const float* transformed_weights,
+                                   const float* bias, float* y, bool accumulate,
+                                   const Epilogue* epilogue = nullptr);
+
 // Floats winograd_weight_gradient needs in `partials`: one set of 36 [Co, Ci] sums per thread.
 size_t winograd_weight_gradient_floats(const ConvGeometry& g, int64_t out_channels);
 

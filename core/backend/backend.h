@@ -1,6 +1,7 @@
 // Backend: the backend-agnostic op table every compute backend implements (cpu, opencl, ...).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -183,6 +184,13 @@ class Backend {
   // image's widest activation takes `bytes_per_image` (so that a chunk's activations can stay in
   // cache between layers); in [1, batch]. The default: the whole batch.
   virtual int64_t fused_batch_chunk(int64_t /*bytes_per_image*/, int64_t batch) { return batch < 1 ? 1 : batch; }
+  // Runs the independent branches of a network's fused forward on `batch` images (each a
+  // sequence of ops that reads tensors made before and writes tensors of its own). The default:
+  // one after the other. The cpu backend runs them at once, each on a thread of its own, where
+  // the batch is too small to give every thread work inside each layer (cpu_conv_fused.cpp).
+  virtual void run_branches(int64_t /*batch*/, const std::vector<std::function<void()>>& branches) {
+    for (const std::function<void()>& branch : branches) branch();
+  }
 
   // ---- plugin kernels ----
   // Runs `entry` of `kernel` over `work_items` items with `args` (see custom_kernel.h).

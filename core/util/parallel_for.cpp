@@ -175,6 +175,8 @@ int parallel_thread_count() { return pool().threads(); }
 
 int parallel_thread_slot() { return tls_slot; }
 
+int parallel_threads_here() { return tls_inside_parallel ? 1 : parallel_thread_count(); }
+
 InlineParallelScope::InlineParallelScope() : was_inline_(tls_inside_parallel) { tls_inside_parallel = true; }
 
 InlineParallelScope::~InlineParallelScope() { tls_inside_parallel = was_inline_; }

@@ -10,6 +10,11 @@ namespace facetool {
 // set to a positive number, otherwise std::thread::hardware_concurrency().
 int parallel_thread_count();
 
+// The threads a parallel_for called here would run on: 1 where it runs inline (inside another
+// parallel_for, in an InlineParallelScope, or with one thread), else parallel_thread_count().
+// For work split into as many parts as threads (a batch-1 layer run whole on one thread).
+int parallel_threads_here();
+
 // Which of the parallel_for threads is running the caller: 0 for the calling (outside) thread,
 // 1 .. parallel_thread_count()-1 for pool workers. Useful for per-thread scratch buffers.
 int parallel_thread_slot();

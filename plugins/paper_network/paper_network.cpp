@@ -178,12 +178,21 @@ NetworkOutputs PaperNetwork::forward_fused_chunk(const Tensor& images) const {
   down.activation = ConvEpilogue::Activation::LeakyRelu;
   down.slope = kLeakySlope;
   const Tensor features = stem_down_.infer(h, down);
-  const Tensor albedo_features = albedo_residual_.infer(features);
-  const Tensor shape_features = shape_residual_.infer(features);
+  // The albedo and shape halves depend on `features` alone: the backend may run them at once.
+  Tensor albedo_features, shape_features, albedo, shape;
+  images.backend().run_branches(
+      images.shape().n(),
+      {[&] {
+         albedo_features = albedo_residual_.infer(features);
+         albedo = albedo_decoder_.infer(albedo_features, ConvEpilogue::Activation::Sigmoid);
+       },
+       [&] {
+         shape_features = shape_residual_.infer(features);
+         shape = shape_decoder_.infer(shape_features, ConvEpilogue::Activation::None);
+       }});
 
   NetworkOutputs out;
-  out.albedo = ag::Variable(albedo_decoder_.infer(albedo_features, ConvEpilogue::Activation::Sigmoid));
-  const Tensor shape = shape_decoder_.infer(shape_features, ConvEpilogue::Activation::None);
+  out.albedo = ag::Variable(albedo);
   Tensor normal = ops::slice_channels(shape, 0, 3);
   if (prior_channels_ > 0) normal = ops::add(normal, ops::slice_channels(images, 3, 3));
   out.normal = ag::Variable(ops::l2_normalize(normal));

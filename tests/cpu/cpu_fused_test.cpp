@@ -2,7 +2,10 @@
 // every convolution algorithm (im2col, Winograd, oneDNN, direct) with every epilogue on odd shapes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "backends/cpu/cpu_conv.h"
 #include "backends/cpu/cpu_conv_choice.h"
@@ -145,6 +148,101 @@ TEST(CpuFused, DirectConvolutionOnNonSquareImagesAndAnyPaddingMatchesThePlainRef
   // Stride 2 and a padding that does not give the output's size are refused.
   EXPECT_FALSE(cpu::direct_conv_applicable(cpu::ConvGeometry{3, 8, 8, 3, 2, 1, 4, 4}));
   EXPECT_FALSE(cpu::direct_conv_applicable(cpu::ConvGeometry{3, 8, 8, 3, 1, 1, 7, 8}));
+}
+
+// Every convolution of the paper network (plugins/paper_network) at width c and input s, as
+// {in, out, kernel, stride, size}: stem 7x7 and 3x3, the stride-2 layer, residual, decoder 3x3
+// layers, the 1x1 output layers and the light head's 1x1.
+std::vector<std::array<int64_t, 5>> network_layer_shapes(int64_t c, int64_t s) {
+  return {{3, c / 2, 7, 1, s}, {c / 2, c, 3, 1, s}, {c, c, 3, 2, s}, {c, c, 3, 1, s / 2},
+          {c, c, 3, 1, s},     {c, c / 2, 3, 1, s}, {c / 2, 12, 1, 1, s}, {c / 2, 3, 1, 1, s},
+          {3 * c, c, 1, 1, s / 2}};
+}
+
+// Each algorithm at batch 1 (its own task split over the threads: an image's pixels or tiles cut
+// into as many equal parts as there are threads) gives every image what a batch of 3 gives it,
+// epilogue included, on every layer shape of the shipped network (width 32 at 96 x 96 and 64 x 64)
+// and of the paper's (128 at 128 x 128), and at odd sizes (width 26 at 50: 13 channels, a 25 x 25
+// residual stage; width 14 at 66). The same sums in blocks of other lengths: float rounding of up
+// to 1152 products of values in [-1, 1].
+TEST(CpuFused, BatchOneGivesEachImageTheBatchsOutputsOnEveryLayerShape) {
+  Backend& be = cpu_backend();
+  constexpr int64_t kBatch = 3;
+  unsigned seed = 900;
+  for (const auto& [width, size] : {std::pair<int64_t, int64_t>{32, 96}, {32, 64}, {128, 128},
+                                    {26, 50}, {14, 66}}) {
+    for (const auto& [in, out, kernel, stride, s] : network_layer_shapes(width, size)) {
+      const Tensor x = random_tensor(be, Shape{kBatch, in, s, s}, ++seed);
+      const Tensor w = random_tensor(be, Shape{out, in, kernel, kernel}, ++seed);
+      const Conv2dParams params{static_cast<int>(stride)};
+      const Shape ys = ops::conv2d(random_tensor(be, Shape{1, in, s, s}, 1), w, nullptr, params)
+                           .shape();
+      const Tensor scale = random_tensor(be, Shape{out}, ++seed, 0.5f, 1.5f);
+      const Tensor shift = random_tensor(be, Shape{out}, ++seed);
+      const Tensor residual = random_tensor(be, Shape{kBatch, out, ys.h(), ys.w()}, ++seed);
+      const std::vector<float> xs = x.to_host(), rs = residual.to_host();
+      const cpu::ConvGeometry g{in, s, s, kernel, stride, kernel / 2, ys.h(), ys.w()};
+      for (ConvAlgorithm a : cpu::applicable_conv_algorithms(g, out)) {
+        if (a == ConvAlgorithm::Direct) continue;  // the rule takes it for no layer here
+        ForcedAlgorithm forced(a);
+        // conv -> scale, shift, + residual, leaky ReLU; the same again as a second output
+        auto run = [&](const Tensor& images, const Tensor& added, std::vector<float>& second) {
+          ConvEpilogue e;
+          e.scale = &scale;
+          e.shift = &shift;
+          e.residual = &added;
+          e.activation = ConvEpilogue::Activation::LeakyRelu;
+          e.slope = 0.2f;
+          Tensor y2 = Tensor::empty(be, Shape{images.shape().n(), out, ys.h(), ys.w()});
+          e.y2 = &y2;
+          e.post_scale = &scale;
+          e.post_shift = &shift;
+          e.post_slope = 0.1f;
+          const std::vector<float> y = ops::conv2d_fused(images, w, params, e).to_host();
+          second = y2.to_host();
+          return y;
+        };
+        std::vector<float> batch_second;
+        const std::vector<float> batch_y = run(x, residual, batch_second);
+        const size_t in_floats = xs.size() / kBatch, out_floats = batch_y.size() / kBatch;
+        for (int64_t n = 0; n < kBatch; ++n) {
+          Tensor one = Tensor::empty(be, Shape{1, in, s, s});
+          one.copy_from_host(std::vector<float>(xs.begin() + n * in_floats,
+                                                xs.begin() + (n + 1) * in_floats));
+          Tensor one_residual = Tensor::empty(be, Shape{1, out, ys.h(), ys.w()});
+          one_residual.copy_from_host(std::vector<float>(rs.begin() + n * out_floats,
+                                                         rs.begin() + (n + 1) * out_floats));
+          std::vector<float> second;
+          const std::vector<float> y = run(one, one_residual, second);
+          const std::string what = std::to_string(in) + "->" + std::to_string(out) + " k" +
+                                   std::to_string(kernel) + " s" + std::to_string(stride) +
+                                   " at " + std::to_string(s) + " by " +
+                                   cpu::conv_algorithm_name(a) + ", image " + std::to_string(n);
+          const auto part = [&](const std::vector<float>& v) {
+            return std::vector<float>(v.begin() + n * out_floats, v.begin() + (n + 1) * out_floats);
+          };
+          EXPECT_TRUE(all_close(y, part(batch_y), 1e-4, 1e-5)) << what;
+          EXPECT_TRUE(all_close(second, part(batch_second), 1e-4, 1e-5)) << what << " second output";
+        }
+      }
+    }
+  }
+}
+
+// Inference keeps Winograd's transformed weights between calls (cpu_weight_cache.h): weights
+// changed in place, at the same address, are transformed anew.
+TEST(CpuFused, WinogradWeightsChangedInPlaceAreTransformedAnew) {
+  Backend& be = cpu_backend();
+  ForcedAlgorithm forced(ConvAlgorithm::Winograd);
+  const Tensor x = random_tensor(be, Shape{1, 16, 12, 12}, 31);
+  const Tensor w = random_tensor(be, Shape{16, 16, 3, 3}, 32);
+  for (unsigned version = 0; version < 3; ++version) {
+    if (version > 0) w.copy_from_host(random_values(static_cast<size_t>(w.numel()), 40 + version));
+    const std::vector<float> y = ops::conv2d_fused(x, w, Conv2dParams{}, ConvEpilogue{}).to_host();
+    const std::vector<float> expected =
+        ops::conv2d_fused_reference(x, w, Conv2dParams{}, ConvEpilogue{}).to_host();
+    EXPECT_TRUE(all_close(y, expected, kAtol, kRtol)) << "weights version " << version;
+  }
 }
 
 // The rule without measurements: direct for a stride-1 kernel over 1x1 with few outputs.

@@ -141,6 +141,21 @@ TEST(ParallelFor, NestedCallsRunInlineOnTheCallingThread) {
   EXPECT_EQ(total.load(), 8 * 16);
 }
 
+// What a call here would run on: the pool outside, one thread inside a call or an inline scope.
+TEST(ParallelFor, ThreadsHereAreOneWhereCallsRunInline) {
+  EXPECT_EQ(parallel_threads_here(), parallel_thread_count());
+  std::atomic<int> inside_not_one{0};
+  parallel_for(8, 1, [&](int64_t, int64_t) {
+    if (parallel_threads_here() != 1) ++inside_not_one;
+  });
+  EXPECT_EQ(inside_not_one.load(), 0);
+  {
+    InlineParallelScope here;
+    EXPECT_EQ(parallel_threads_here(), 1);
+  }
+  EXPECT_EQ(parallel_threads_here(), parallel_thread_count());
+}
+
 // Calls [0, n) in chunks, recording which threads ran them; returns how many chunks there were.
 int chunks_of(int64_t n, std::set<std::thread::id>& threads) {
   std::mutex mutex;
