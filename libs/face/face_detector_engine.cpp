@@ -106,11 +106,11 @@ std::string builtin_hog_detector_bytes() {
 // dlib's HOG detector over all pyramid levels (the last size band; and the look again at a face
 // only the CNN found), the same filters over one octave (the other bands), and a copy of that
 // one per band, so that the bands are searched in parallel (a dlib detector keeps the image it
-// scans: one object per thread). The bands search only around the photo (HogScan).
+// scans: one object per thread). The bands search only windows centred on the photo (HogScan).
 struct HogDetectors {
   dlib::frontal_face_detector all_levels = load_hog_detector();
-  HogScan last_band{all_levels};
-  HogScan band{one_octave(all_levels)};
+  HogScan last_band{all_levels, HogScan::Windows::centred_on_the_varied_area};
+  HogScan band{one_octave(all_levels), HogScan::Windows::centred_on_the_varied_area};
   std::vector<HogScan> band_copies;
 };
 
