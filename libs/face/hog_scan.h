@@ -1,6 +1,6 @@
-// dlib's HOG face detector over one octave, and searching only where a pyramid level is not one flat grey (the padding
-// around a photo is): dlib code, included by the detector's engine (in both its compilations,
-// among dlib's headers: face_detector_engine.cpp) and by its test.
+// dlib's HOG face detector over one octave, and searching each pyramid level only where it is
+// not one flat grey (the padding around a photo): dlib code, included by the detector's engine
+// (in both its compilations, among dlib's headers: face_detector_engine.cpp) and by its test.
 #pragma once
 
 #include <algorithm>
@@ -9,9 +9,7 @@
 #include <dlib/image_processing.h>
 #include <dlib/image_processing/frontal_face_detector.h>
 
-#ifndef FACETOOL_DETECTOR_CODE
-#define FACETOOL_DETECTOR_CODE portable
-#endif
+#include "libs/face/detector_code.h"
 
 namespace facetool {
 namespace FACETOOL_DETECTOR_CODE {
@@ -57,17 +55,17 @@ inline dlib::rectangle varied_area(const dlib::array2d<unsigned char>& image) {
   return dlib::rectangle(left, top, std::max(left, right), bottom);
 }
 
-// The boxes dlib's `detector(image, found, threshold)` gives, found by searching each pyramid
-// level only around its varied area. Where an image is one grey, HOG's features are exactly zero
-// (no gradient), and a window of zero features scores minus its filter's bias (-3.27 at best for
-// dlib's frontal filters): below any threshold above that, it is never a face. Each level is built
-// from the whole image as dlib builds it, cropped to its varied area grown by half a filter (with
-// Windows::every) and kReachCells HOG cells (the crop's left and top on the cell grid, so that its cells are the
+// dlib's `detector(image, found, threshold)`, searching each pyramid level only around its
+// varied area. Where an image is one grey, HOG's features are exactly zero (no gradient), and a
+// window of zero features scores minus its filter's bias (-3.27 at best for dlib's frontal
+// filters): at any threshold above that, it is never a face. Each level is built from the whole
+// image as dlib builds it, cropped to its varied area grown by kReachCells HOG cells (and half a
+// filter with Windows::every; the crop's left and top on the cell grid, so that its cells are the
 // level's own), and searched alone: every window centred on a cell of the crop is scored with the
-// level's own features, and every other window sees only zero features (with Windows::every).
-// The boxes, scores and their order are dlib's (HogScan test; two boxes of exactly equal score
-// could come in the other order); at a threshold that lets windows of zero features through,
-// dlib's own search runs.
+// level's own features. With Windows::every every other window sees only zero features, and the
+// boxes, scores and their order are dlib's (HogScan test; two boxes of exactly equal score could
+// come in the other order). At a threshold that lets windows of zero features through, dlib's
+// own search runs.
 class HogScan {
  public:
   // A box of a crop whose top-left pixel is (left, top) of the level (a whole number of cells),
@@ -184,7 +182,10 @@ class HogScan {
   static constexpr long kReachCells = 3;
   // dlib filters eight windows at a time and the last few of a row one by one, summing in another
   // order (the last bits of a score differ): the crop reaches this many cells further right, so
-  // that the windows it filters one by one are all-zero ones or the whole level's last ones.
+  // that the windows it filters one by one are, with Windows::every, all-zero ones or the whole
+  // level's last ones; with centred_on_the_varied_area they are among the windows centred 3 to 10
+  // cells right of the varied area, scored too (their scores may differ from dlib's in the last
+  // bits).
   static constexpr long kTailCells = 7;
   dlib::frontal_face_detector detector_;
   Windows windows_;
