@@ -40,6 +40,7 @@
 #include <dlib/image_transforms.h>
 #include <dlib/serialize.h>
 
+#include "libs/face/hog_scan.h"
 #include "libs/face/landmark_model_dlib.h"
 #include "libs/face/landmark_trees.h"
 
@@ -102,13 +103,15 @@ std::string builtin_hog_detector_bytes() {
 }
 #endif
 
-// dlib's HOG detector over all pyramid levels (the last size band), the same filters over one
-// octave (the other bands), and a copy of that one per band, so that the bands are searched in
-// parallel (a dlib detector keeps the image it scans: one object per thread).
+// dlib's HOG detector over all pyramid levels (the last size band; and the look again at a face
+// only the CNN found), the same filters over one octave (the other bands), and a copy of that
+// one per band, so that the bands are searched in parallel (a dlib detector keeps the image it
+// scans: one object per thread). The bands search only windows centred on the photo (HogScan).
 struct HogDetectors {
   dlib::frontal_face_detector all_levels = load_hog_detector();
-  dlib::frontal_face_detector band;
-  std::vector<dlib::frontal_face_detector> band_copies;
+  HogScan last_band{all_levels, HogScan::Windows::centred_on_the_varied_area};
+  HogScan band{one_octave(all_levels), HogScan::Windows::centred_on_the_varied_area};
+  std::vector<HogScan> band_copies;
 };
 
 class DlibEngine final : public FaceDetectorEngine {
@@ -156,13 +159,6 @@ DlibEngine::DlibEngine(const std::string& landmark_model, const std::string& cnn
   }
   check(predictor_.num_parts() == kLandmarkCount, "landmark model '", landmark_model,
         "' predicts ", predictor_.num_parts(), " points; facetool needs the 68-point model");
-  dlib::frontal_face_detector::image_scanner_type scanner;
-  scanner.copy_configuration(hog_.all_levels.get_scanner());
-  scanner.set_max_pyramid_levels(4);  // 1, 5/6, (5/6)^2, (5/6)^3: one octave of face sizes
-  std::vector<dlib::frontal_face_detector::feature_vector_type> filters;
-  for (unsigned long i = 0; i < hog_.all_levels.num_detectors(); ++i)
-    filters.push_back(hog_.all_levels.get_w(i));
-  hog_.band = dlib::frontal_face_detector(scanner, hog_.all_levels.get_overlap_tester(), filters);
   cnn_model_ = cnn_model;
 }
 
@@ -566,7 +562,7 @@ std::vector<Found> search_upright(HogDetectors& hog_detectors, const CnnFaceDete
       image = &scaled;
     }
     std::vector<dlib::rect_detection> found;
-    (all[i].last ? hog_detectors.all_levels : hog_detectors.band_copies[i])(*image, found, options.score_threshold);
+    (all[i].last ? hog_detectors.last_band : hog_detectors.band_copies[i])(*image, found, options.score_threshold);
     std::vector<ScoredBox> boxes;
     for (const dlib::rect_detection& d : found)
       boxes.push_back({static_cast<double>(d.rect.left()), static_cast<double>(d.rect.top()),

@@ -14,9 +14,7 @@
 #include <dlib/image_processing/full_object_detection.h>
 #include <dlib/image_processing/shape_predictor.h>
 
-#ifndef FACETOOL_DETECTOR_CODE
-#define FACETOOL_DETECTOR_CODE portable
-#endif
+#include "libs/face/detector_code.h"
 
 namespace facetool {
 namespace FACETOOL_DETECTOR_CODE {

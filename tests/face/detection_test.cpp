@@ -334,6 +334,30 @@ TEST_F(HardPhotos, SmallFaceInASmallPhotoIsFoundByDefault) {
   EXPECT_NE(no_face_reason(small, {}).find("at least 32 pixels"), std::string::npos);
 }
 
+TEST_F(HardPhotos, FaceCutByThePhotosEdgeIsFound) {
+  // HOG scores only windows centred near the photo, not the whole padding (libs/face/hog_scan.h):
+  // a face cut by the photo's edge, its box hanging out into the padding, is still found, at full
+  // size (a quarter of it cut off on the left) and small (the photo scaled to 0.3, a face of about
+  // 55 pixels, found by the second look, a quarter of it cut off at the top).
+  const DetectedFace& face = grace_faces_[0];
+  const double size = face.right - face.left;
+  const int cut = static_cast<int>(face.left + 0.25 * size);
+  DetectionOptions hog;
+  hog.detector = DetectorChoice::hog;
+  const std::vector<DetectedFace> left = detector_->detect(crop(grace_, cut, 0, grace_.width - cut, grace_.height), hog);
+  ASSERT_EQ(left.size(), 1u);
+  std::printf("cut on the left: box from x %.0f, %.0f pixels (full photo: %.0f)\n", left[0].left, left[0].size(), size);
+  EXPECT_LT(left[0].left, 0);
+  EXPECT_NEAR(left[0].size(), size, 0.25 * size);
+  const int top = static_cast<int>(face.top + 0.25 * (face.bottom - face.top));
+  const RgbImage small = scaled(crop(grace_, 0, top, grace_.width, grace_.height - top), 0.3);
+  const std::vector<DetectedFace> found = detector_->detect(small, hog);
+  ASSERT_EQ(found.size(), 1u);
+  std::printf("small, cut at the top: box from y %.0f, %.0f pixels\n", found[0].top, found[0].size());
+  EXPECT_LT(found[0].top, 0);
+  EXPECT_NEAR(found[0].size(), 0.3 * size, 0.25 * 0.3 * size);
+}
+
 TEST_F(HardPhotos, MissingOrDamagedCnnModelIsNamedAndHogStillWorks) {
   const std::string missing = ::testing::TempDir() + "/no_such_dir/mmod_human_face_detector.dat";
   FaceDetector without(kDefaultLandmarkModel, missing);
