@@ -5,7 +5,7 @@
 
 // Bumped whenever this descriptor or any plugin interface class (core/plugin/*_plugin.h)
 // changes; the loader refuses a plugin built for another version. History: docs/plugins.md.
-#define FACETOOL_PLUGIN_API_VERSION 6
+#define FACETOOL_PLUGIN_API_VERSION 7
 
 // The C++ ABI a plugin object crosses the library boundary with: the standard library and, for
 // libstdc++, its std::string/std::list ABI (_GLIBCXX_USE_CXX11_ABI). A plugin compiled for another
