@@ -21,7 +21,8 @@ constexpr const char* kModuleFile = "facetool_openimageio.so";
 // 0.4 GB of files, and a logging library among them starts threads while it loads (measured
 // 0.38 GB of files and 0.2 GB of stacks and heaps). Under a tighter address-space limit the
 // loader fails to map a library, or that library's start aborts the process, so the budget is
-// checked first.
+// checked first. 0.52 GB: with 0.45 a run under 700 MB still crashed inside the library; with 0.6
+// eval was refused under 900 MB, where it works (docs/input-limits.md).
 constexpr uint64_t kModuleAddressSpace = 520ull << 20;
 constexpr const char* kModuleTask = "loading the module that reads EXR and other formats through OpenImageIO";
 
