@@ -171,7 +171,8 @@ SyntheticBatch DatasetReader::next() {
 }
 
 Tensor SyntheticBatch::network_input() const {
-  return prior.defined() ? ops::concat_channels({image, prior}) : image;
+  const Tensor& seen = input_image.defined() ? input_image : image;
+  return prior.defined() ? ops::concat_channels({seen, prior}) : seen;
 }
 
 }  // namespace facetool

@@ -23,10 +23,14 @@ class Backend;
 // the reader was asked for one (undefined otherwise).
 struct SyntheticBatch {
   Tensor image, albedo, normal, mask, visibility, light, prior;
+  // When defined, what the network reads in place of `image`, which stays the losses' target
+  // (training's hard-relit rows, libs/train/relit_inputs.h); never set by the reader.
+  Tensor input_image;
   std::vector<std::string> files;  // the samples, in batch order
   int64_t epoch = 0;               // the pass over the data the batch belongs to (0-based)
 
-  // What the network reads: the image, followed by the prior's channels when there is one.
+  // What the network reads: the image (input_image when defined), followed by the prior's
+  // channels when there is one.
   Tensor network_input() const;
 };
 

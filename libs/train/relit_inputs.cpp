@@ -54,21 +54,33 @@ sh::RgbLight one_sided_light(const sh::Vec3& direction, double ambient) {
   return light;
 }
 
-RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row) {
+RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row, RelightLight kind) {
   const uint64_t h0 = row_hash(seed ^ kRelightSalt ^ 1, step, source, row);
   const uint64_t h1 = row_hash(seed ^ kRelightSalt ^ 2, step, source, row);
   const uint64_t h2 = row_hash(seed ^ kRelightSalt ^ 3, step, source, row);
-  const double azimuth = (-75.0 + 150.0 * unit_interval(h0)) * kPi / 180.0;
-  const double elevation = (-10.0 + 50.0 * unit_interval(h1)) * kPi / 180.0;
+  const bool hard = kind == RelightLight::kHard;
+  const double max_azimuth = hard ? 90.0 : 75.0;
+  const double min_elevation = hard ? -30.0 : -10.0, max_elevation = hard ? 65.0 : 40.0;
+  const double azimuth = (-max_azimuth + 2 * max_azimuth * unit_interval(h0)) * kPi / 180.0;
+  const double elevation = (min_elevation + (max_elevation - min_elevation) * unit_interval(h1)) * kPi / 180.0;
   RelightDraw d;
   d.direction = {std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
                  std::cos(azimuth) * std::cos(elevation)};
-  d.ambient = 0.05 + 0.35 * unit_interval(h2);
+  d.ambient = hard ? 0.02 + 0.28 * unit_interval(h2) : 0.05 + 0.35 * unit_interval(h2);
   return d;
 }
 
+double hard_direct_shading(const sh::Vec3& n, const float* visibility, size_t stride, const sh::Vec3& direction) {
+  const double cosine = n[0] * direction[0] + n[1] * direction[1] + n[2] * direction[2];
+  if (cosine <= 0) return 0.0;
+  const sh::ShCoeffs y = sh::sh_basis(direction);
+  double v = 0;
+  for (int i = 0; i < sh::kCoeffCount; ++i) v += visibility[i * stride] * y[i];
+  return cosine * std::clamp(v, 0.0, 1.0) / kPi;
+}
+
 void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int source, double fraction,
-                       int64_t first_row) {
+                       int64_t first_row, RelightLight kind) {
   if (fraction <= 0) return;
   const Shape& s = batch.image.shape();
   check(s.rank() == 4 && s.c() == 3, "relit inputs: expected an image [N, 3, H, W], got ", s.str());
@@ -79,6 +91,8 @@ void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int s
   if (rows.empty()) return;
   const size_t plane = static_cast<size_t>(s.h()) * s.w();
   std::vector<float> image = batch.image.to_host(), light = batch.light.to_host();
+  const bool hard = kind == RelightLight::kHard;
+  std::vector<float> input = hard ? image : std::vector<float>();
   const std::vector<float> normal = batch.normal.to_host(), visibility = batch.visibility.to_host();
   const std::vector<float> mask = batch.mask.to_host();
   bool changed = false;
@@ -97,10 +111,23 @@ void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int s
     }
     if (count == 0) continue;
     const std::vector<double> t = transfer_coefficients(nrm, vis, labelled, plane);
-    const RelightDraw draw = relight_draw(seed, step, source, first_row + n);
+    const RelightDraw draw = relight_draw(seed, step, source, first_row + n, kind);
     sh::RgbLight fresh = one_sided_light(draw.direction, draw.ambient);
-    // Per channel: the old and new shading, the new light scaled to the old mean.
-    std::vector<float> old_shading(3 * plane), new_shading(3 * plane);
+    // The hard light's shading before its scale: its exact direct part and the ambient's SH part
+    // (a uniform radiance is exact in the 9 coefficients).
+    std::vector<double> hard_shading;
+    if (hard) {
+      hard_shading.assign(plane, 0.0);
+      const double ambient_l0 = 2.0 * std::sqrt(kPi) * draw.ambient / kPi;
+      for (size_t p = 0; p < plane; ++p)
+        if (labelled[p])
+          hard_shading[p] = hard_direct_shading({nrm[p], nrm[plane + p], nrm[2 * plane + p]}, vis.data() + p, plane,
+                                                draw.direction) +
+                            ambient_l0 * t[p] / kPi;
+    }
+    // Per channel: the old and new shading, the new light scaled to the old mean (the SH one's
+    // scale serves the hard one too: both are the same light).
+    std::vector<float> old_shading(3 * plane), new_shading(3 * plane), hard_new(hard ? 3 * plane : 0);
     for (int c = 0; c < 3; ++c) {
       double old_sum = 0, new_sum = 0;
       for (size_t p = 0; p < plane; ++p) {
@@ -117,22 +144,29 @@ void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int s
       }
       const double k = new_sum > 0 && old_sum > 0 ? old_sum / new_sum : 0.0;
       for (int i = 0; i < sh::kCoeffCount; ++i) fresh[c * sh::kCoeffCount + i] *= k;
-      for (size_t p = 0; p < plane; ++p) new_shading[c * plane + p] = static_cast<float>(new_shading[c * plane + p] * k);
+      for (size_t p = 0; p < plane; ++p) {
+        new_shading[c * plane + p] = static_cast<float>(new_shading[c * plane + p] * k);
+        if (hard) hard_new[c * plane + p] = static_cast<float>(hard_shading[p] * k);
+      }
     }
     const std::vector<float> weight = feather(labelled, s.w(), s.h());
-    float* img = image.data() + n * 3 * plane;
-    for (int c = 0; c < 3; ++c)
-      for (size_t p = 0; p < plane; ++p) {
-        if (!labelled[p]) continue;
-        const float gain = relight::ratio_factor(new_shading[c * plane + p], old_shading[c * plane + p],
-                                                 relight::kDefaultRatioEpsilon);
-        img[c * plane + p] *= 1.0f + weight[p] * (std::min(gain, kMaxRelightGain) - 1.0f);
-      }
+    auto relight_row = [&](float* img, const std::vector<float>& shading) {
+      for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < plane; ++p) {
+          if (!labelled[p]) continue;
+          const float gain = relight::ratio_factor(shading[c * plane + p], old_shading[c * plane + p],
+                                                   relight::kDefaultRatioEpsilon);
+          img[c * plane + p] *= 1.0f + weight[p] * (std::min(gain, kMaxRelightGain) - 1.0f);
+        }
+    };
+    relight_row(image.data() + n * 3 * plane, new_shading);
+    if (hard) relight_row(input.data() + n * 3 * plane, hard_new);
     for (int i = 0; i < sh::kLightCoeffCount; ++i) old_light[i] = static_cast<float>(fresh[i]);
     changed = true;
   }
   if (!changed) return;
   batch.image = Tensor::from_host(batch.image.backend(), s, image);
+  if (hard) batch.input_image = Tensor::from_host(batch.image.backend(), s, input);
   batch.light = Tensor::from_host(batch.light.backend(), batch.light.shape(), light);
 }
 

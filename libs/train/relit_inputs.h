@@ -18,14 +18,28 @@ bool relit_row(uint64_t seed, int64_t step, int source, int64_t row, double frac
 // same in the three channels.
 sh::RgbLight one_sided_light(const sh::Vec3& direction, double ambient);
 
+// How the relit rows' new light shades the network's input (DataSource::relight_light).
+enum class RelightLight {
+  kSh,    // "sh": the light's 9 SH coefficients through the labels' transfer, input and target alike
+  kHard,  // "hard": the input gets the distant light's exact shading, the target keeps the SH one
+};
+
 // What relit_row's draw gives row `row`: azimuth about the vertical axis uniform in +-75
 // degrees from the camera axis, elevation uniform in -10..40 degrees, ambient uniform in
-// 0.05..0.4 (one_sided_light). Deterministic in its arguments.
+// 0.05..0.4 (one_sided_light). With RelightLight::kHard, a strobe's wider range: azimuth +-90,
+// elevation -30..65, ambient 0.02..0.3. Deterministic in its arguments.
 struct RelightDraw {
   sh::Vec3 direction{};
   double ambient = 0;
 };
-RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row);
+RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row,
+                         RelightLight kind = RelightLight::kSh);
+
+// The exact shading of a unit-power distant light from `direction` at a pixel of normal `n` and
+// SH visibility `visibility` (9 coefficients): max(n.l, 0) times the visibility function in that
+// direction (clamped to 0..1), over pi; the sharp terminator and cast shadow that the light's 9
+// coefficients blur.
+double hard_direct_shading(const sh::Vec3& n, const float* visibility, size_t stride, const sh::Vec3& direction);
 
 // Relights, in place, the rows of `batch` that relit_row picks, through their labels: in the
 // loss mask where a row's label normal is set, image x (new shading / old shading), each
@@ -41,9 +55,14 @@ RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row);
 // relit photo; albedo, normal, visibility and mask are unchanged. A row without a light label
 // (all zeros) is left as it is. `first_row`: the batch row of the batch's row 0 (a rank's slice
 // starts there).
+// With RelightLight::kHard the network's input (batch.input_image, set to a copy of the image
+// with its relit rows) is relit instead by the light's exact shading (hard_direct_shading plus
+// the ambient through the transfer), while batch.image, the losses' target, is relit through the
+// SH light as above: the losses ask the network for the SH decomposition of a photo lit by a
+// hard light, its albedo free of the sharp terminator and cast shadows it cannot render.
 constexpr float kMaxRelightGain = 3.0f;
 constexpr int kRelightFeather = 2;
 void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int source, double fraction,
-                       int64_t first_row = 0);
+                       int64_t first_row = 0, RelightLight kind = RelightLight::kSh);
 
 }  // namespace facetool

@@ -286,7 +286,8 @@ StepRecord Trainer::step() {
     const int source_index = static_cast<int>(&source - sources_.data());
     const int64_t first_row = parallel ? rank_rows(global_images, comm_->rank(), comm_->size()).first : 0;
     mirror_some_rows(batch, config_.seed, step_, source_index, source->config->mirror_fraction, first_row);
-    relight_some_rows(batch, config_.seed, step_, source_index, source->config->relight_fraction, first_row);
+    relight_some_rows(batch, config_.seed, step_, source_index, source->config->relight_fraction, first_row,
+                      source->config->relight_light == "hard" ? RelightLight::kHard : RelightLight::kSh);
     const Tensor input = grey_some_rows(batch.network_input(), config_.seed, step_, source_index,
                                         source->config->grey_fraction, first_row);
     const NetworkOutputs out = network_->forward(ag::Variable(input), true);

@@ -131,7 +131,8 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
   for (size_t k = 0; k < root.at("sources").size(); ++k) {
     const json& s = root.at("sources")[k];
     const std::string where = "sources[" + std::to_string(k) + "]";
-    r.only_keys(s, where, {"name", "kind", "directory", "batch", "grey_fraction", "relight_fraction", "mirror_fraction", "terms"});
+    r.only_keys(s, where, {"name", "kind", "directory", "batch", "grey_fraction", "relight_fraction", "relight_light", "mirror_fraction",
+                        "terms"});
     DataSource d;
     d.name = r.text(s, where, "name", "", true);
     check(names.insert(d.name).second, "training config '", path, "': two sources are called '",
@@ -147,6 +148,9 @@ TrainingConfig parse_training_config(const std::string& json_text, const std::st
     d.grey_fraction = r.number(s, where, "grey_fraction", d.grey_fraction, false, 0.0, 1.0);
     d.relight_fraction = r.number(s, where, "relight_fraction", d.relight_fraction, false, 0.0, 1.0);
     d.mirror_fraction = r.number(s, where, "mirror_fraction", d.mirror_fraction, false, 0.0, 1.0);
+    d.relight_light = r.text(s, where, "relight_light", d.relight_light, false);
+    check(d.relight_light == "sh" || d.relight_light == "hard", "training config '", path, "': ", where,
+          ".relight_light '", d.relight_light, "' is not \"sh\" or \"hard\"");
     check(d.relight_fraction == 0 || d.kind != "real", "training config '", path, "': ", where,
           ".relight_fraction needs labels (the light and normals it relights through); a source of kind "
           "\"real\" has none: label it (facetool pseudo-label) and use kind \"pseudo_labelled\"");

@@ -29,6 +29,10 @@ struct DataSource {
   // labels (libs/train/relit_inputs.h): input and reconstruction target alike, the light label
   // replaced; before the grey rows are picked. Needs labels (not kind "real").
   double relight_fraction = 0;
+  // How the relit photos' new light shades the network's input: "sh" (its 9 SH coefficients,
+  // input and target alike) or "hard" (the exact distant light with its cast shadows for the
+  // input, the SH rendering kept as the target; libs/train/relit_inputs.h).
+  std::string relight_light = "sh";
   // Fraction of this source's samples seen in a left-right mirror, labels and all
   // (libs/train/mirrored_inputs.h); before the relit and grey rows are picked.
   double mirror_fraction = 0;

@@ -126,6 +126,100 @@ TEST(RelitInputs, RelitRowsAreTheRenderersRatioUnderTheNewLight) {
   EXPECT_GT(brighter, 0);
 }
 
+// The hard light: the network's input is the photo times the guarded ratio of the light's exact
+// shading (max(n.l, 0) times the visibility function at l, from the SH formulas written out here,
+// plus the ambient through the reference renderer) to the old shading, at the scale the light
+// label carries; the target (batch.image) and the light label are the SH relighting's; rows'
+// draws come from the strobe range. Relative 1e-4 where the old shading is well lit.
+TEST(RelitInputs, HardLightRelitsTheInputExactlyAndKeepsTheShTarget) {
+  Rendered r = rendered_batch(3);
+  relight_some_rows(r.batch, 5, 2, 1, 1.0, 0, RelightLight::kHard);
+  ASSERT_TRUE(r.batch.input_image.defined());
+  const std::vector<float> input = r.batch.input_image.to_host(), image = r.batch.image.to_host();
+  const std::vector<float> light = r.batch.light.to_host();
+  const auto renderer = make_reference_renderer();
+  const std::vector<float> white(3 * kPlane, 1.0f);
+  const double k1 = std::sqrt(3.0 / (4.0 * M_PI)), k2 = std::sqrt(15.0 / M_PI) / 2.0;
+  int checked_input = 0, checked_target = 0, shadowed = 0;
+  for (int n = 0; n < kRows; ++n) {
+    const RelightDraw d = relight_draw(5, 2, 1, n, RelightLight::kHard);
+    const double x = d.direction[0], y = d.direction[1], z = d.direction[2];
+    const double basis[9] = {0.5 / std::sqrt(M_PI), k1 * y, k1 * z, k1 * x, k2 * x * y, k2 * y * z,
+                             std::sqrt(5.0 / M_PI) / 4.0 * (3 * z * z - 1), k2 * x * z, k2 / 2.0 * (x * x - y * y)};
+    sh::RgbLight old_light{}, new_light{}, ambient_only{};
+    for (int i = 0; i < sh::kLightCoeffCount; ++i) {
+      old_light[i] = r.light[n * sh::kLightCoeffCount + i];
+      new_light[i] = light[n * sh::kLightCoeffCount + i];
+    }
+    double scale[3];
+    for (int c = 0; c < 3; ++c) {
+      const double* b = new_light.data() + c * sh::kCoeffCount;
+      scale[c] = std::sqrt(b[1] * b[1] + b[2] * b[2] + b[3] * b[3]) / k1;  // a unit light's band 1 is k1 long
+      EXPECT_NEAR(b[3] / (k1 * scale[c]), x, 1e-5);
+      EXPECT_NEAR(b[1] / (k1 * scale[c]), y, 1e-5);
+      ambient_only[c * sh::kCoeffCount] = static_cast<float>(scale[c] * 2.0 * std::sqrt(M_PI) * d.ambient / M_PI);
+    }
+    EXPECT_LE(d.ambient, 0.3);
+    std::vector<float> old_shading(3 * kPlane), sh_shading(3 * kPlane), ambient_shading(3 * kPlane);
+    const float* nrm = r.normal.data() + n * 3 * kPlane;
+    const float* vis = r.visibility.data() + n * 9 * kPlane;
+    renderer->render(static_cast<int>(kPlane), white.data(), nrm, vis, old_light, old_shading.data());
+    renderer->render(static_cast<int>(kPlane), white.data(), nrm, vis, new_light, sh_shading.data());
+    renderer->render(static_cast<int>(kPlane), white.data(), nrm, vis, ambient_only, ambient_shading.data());
+    for (size_t p = 0; p < kPlane; ++p) {
+      if (p % kW == 0 || static_cast<int>(p % kW) <= kRelightFeather) continue;
+      const double cosine = nrm[p] * x + nrm[kPlane + p] * y + nrm[2 * kPlane + p] * z;
+      double v = 0;
+      for (int i = 0; i < 9; ++i) v += vis[i * kPlane + p] * basis[i];
+      const double direct = std::max(cosine, 0.0) * std::clamp(v, 0.0, 1.0) / M_PI;
+      shadowed += cosine <= 0;
+      for (int c = 0; c < 3; ++c) {
+        const size_t at = (n * 3 + c) * kPlane + p;
+        const double o = old_shading[c * kPlane + p];
+        const double hard = scale[c] * direct + ambient_shading[c * kPlane + p];
+        const double eps = relight::kDefaultRatioEpsilon;
+        const double hard_gain = (hard + eps) / (o + eps);
+        const double sh_gain = (std::max(0.0, double(sh_shading[c * kPlane + p])) + eps) / (o + eps);
+        if (o < 0.1) continue;
+        if (hard_gain <= kMaxRelightGain) {
+          EXPECT_NEAR(input[at], r.image[at] * hard_gain, 1e-4 * r.image[at] * hard_gain + 1e-6) << n << " " << p;
+          ++checked_input;
+        }
+        if (sh_gain <= kMaxRelightGain) {
+          EXPECT_NEAR(image[at], r.image[at] * sh_gain, 1e-4 * r.image[at] * sh_gain + 1e-6) << n << " " << p;
+          ++checked_target;
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked_input, kRows * 3 * static_cast<int>(kPlane) / 4);
+  EXPECT_GT(checked_target, kRows * 3 * static_cast<int>(kPlane) / 4);
+  EXPECT_GT(shadowed, 0);  // some pixels face away from some row's light: the terminator is tested
+  // The SH mode leaves input_image undefined: the network reads the target.
+  Rendered plain = rendered_batch(3);
+  relight_some_rows(plain.batch, 5, 2, 1, 1.0);
+  EXPECT_FALSE(plain.batch.input_image.defined());
+}
+
+// The strobe range: over many draws the hard light reaches beyond the soft one's elevation
+// (-10..40) and azimuth (+-75), and stays within -30..65 and +-90.
+TEST(RelitInputs, HardDrawsCoverTheStrobeRange) {
+  double lowest = 90, highest = -90, widest = 0;
+  for (int64_t row = 0; row < 2000; ++row) {
+    const sh::Vec3 d = relight_draw(7, 3, 0, row, RelightLight::kHard).direction;
+    const double elevation = std::asin(d[1]) * 180 / M_PI, azimuth = std::atan2(d[0], d[2]) * 180 / M_PI;
+    lowest = std::min(lowest, elevation);
+    highest = std::max(highest, elevation);
+    widest = std::max(widest, std::abs(azimuth));
+  }
+  EXPECT_LT(lowest, -25);
+  EXPECT_GE(lowest, -30);
+  EXPECT_GT(highest, 60);
+  EXPECT_LE(highest, 65);
+  EXPECT_GT(widest, 85);
+  EXPECT_LE(widest, 90);
+}
+
 // A fraction picks rows by relit_row and leaves the others (image and light) as they were; a
 // fraction of 0 and a batch without a light label change nothing.
 TEST(RelitInputs, OnlyThePickedLabelledRowsChange) {
@@ -200,12 +294,15 @@ TEST(RelitInputs, TheSourceKeyNeedsLabels) {
   const std::string tail = R"("terms": {"albedo": 1}}]})";
   EXPECT_EQ(parse_training_config(head + tail, "a.json").sources[0].relight_fraction, 0.0);
   EXPECT_EQ(parse_training_config(head + R"("relight_fraction": 0.4, )" + tail, "a.json").sources[0].relight_fraction, 0.4);
-  for (const std::string bad : {R"("relight_fraction": 2, )", R"("kind": "real", "relight_fraction": 0.5, )"}) {
+  EXPECT_EQ(parse_training_config(head + tail, "a.json").sources[0].relight_light, "sh");
+  EXPECT_EQ(parse_training_config(head + R"("relight_light": "hard", )" + tail, "a.json").sources[0].relight_light, "hard");
+  for (const std::string bad : {R"("relight_fraction": 2, )", R"("kind": "real", "relight_fraction": 0.5, )",
+                                R"("relight_fraction": 0.5, "relight_light": "soft", )"}) {
     try {
       parse_training_config(head + bad + tail, "b.json");
       ADD_FAILURE() << bad << " accepted";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("relight_fraction"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("relight_"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("b.json"), std::string::npos) << e.what();
     }
   }
@@ -213,7 +310,8 @@ TEST(RelitInputs, TheSourceKeyNeedsLabels) {
 
 // Not a check: draws FACETOOL_RELIT_SAMPLES' first 8 pseudo-labelled samples (sample_*.exr) as
 // they are (top row) and relit (bottom row, every row relit) into FACETOOL_RELIT_PICTURE, for
-// looking at. Run: FACETOOL_RELIT_SAMPLES=DIR FACETOOL_RELIT_PICTURE=out.png
+// looking at; with FACETOOL_RELIT_LIGHT=hard the SH target (middle) and the hard input (bottom).
+// Run: FACETOOL_RELIT_SAMPLES=DIR FACETOOL_RELIT_PICTURE=out.png
 // relit_inputs_test --gtest_also_run_disabled_tests --gtest_filter='*DrawRelit*'
 TEST(RelitInputs, DISABLED_DrawRelitRealSamples) {
   const char* dir = std::getenv("FACETOOL_RELIT_SAMPLES");
@@ -243,19 +341,24 @@ TEST(RelitInputs, DISABLED_DrawRelitRealSamples) {
   for (const TrainingSample& s : samples) light.insert(light.end(), s.light.begin(), s.light.end());
   b.light = Tensor::from_host(cpu(), Shape{n, sh::kLightCoeffCount}, light);
   const std::vector<float> before = b.image.to_host();
-  relight_some_rows(b, 1, 0, 1, 1.0);
+  const char* kind = std::getenv("FACETOOL_RELIT_LIGHT");
+  const bool hard = kind && std::string(kind) == "hard";
+  relight_some_rows(b, 1, 0, 1, 1.0, 0, hard ? RelightLight::kHard : RelightLight::kSh);
   const std::vector<float> after = b.image.to_host();
+  const std::vector<float> input = hard ? b.input_image.to_host() : after;
+  const int rows = hard ? 3 : 2;
   RgbImage sheet;
   sheet.width = n * w;
-  sheet.height = 2 * h;
+  sheet.height = rows * h;
   sheet.pixels.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 0.0f);
   for (int k = 0; k < n; ++k)
-    for (int row = 0; row < 2; ++row)
+    for (int row = 0; row < rows; ++row)
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
           for (int c = 0; c < 3; ++c)
             sheet.pixels[((static_cast<size_t>(row * h + y)) * sheet.width + k * w + x) * 3 + c] =
-                (row ? after : before)[(static_cast<size_t>(k) * 3 + c) * plane + static_cast<size_t>(y) * w + x];
+                (row == 0 ? before : row == 1 ? after : input)[(static_cast<size_t>(k) * 3 + c) * plane +
+                                                                  static_cast<size_t>(y) * w + x];
   write_png_atomically(out, sheet);
 }
 

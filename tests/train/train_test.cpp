@@ -187,6 +187,19 @@ TEST_F(TrainTest, ConfigurationErrorsAreClearBeforeTheFirstStep) {
     for (size_t t = 0; t < relit.sources[k].terms.size(); ++t)
       EXPECT_EQ(relit.sources[k].terms[t].weight, grey50.sources[k].terms[t].weight) << relit.sources[k].terms[t].name;
   }
+  // The hard-light run: the relit run with half of both sources' photos relit by a hard light.
+  const TrainingConfig hard = read_training_config(std::string(FACETOOL_SOURCE_DIR) + "/configs/facetool-v2-hard-stage2.json");
+  EXPECT_EQ(hard.framing, v2_framing());
+  ASSERT_EQ(hard.sources.size(), relit.sources.size());
+  for (size_t k = 0; k < hard.sources.size(); ++k) {
+    EXPECT_EQ(hard.sources[k].relight_fraction, 0.5) << hard.sources[k].name;
+    EXPECT_EQ(hard.sources[k].relight_light, "hard") << hard.sources[k].name;
+    EXPECT_EQ(relit.sources[k].relight_light, "sh") << relit.sources[k].name;
+    EXPECT_EQ(hard.sources[k].grey_fraction, relit.sources[k].grey_fraction);
+    ASSERT_EQ(hard.sources[k].terms.size(), relit.sources[k].terms.size());
+    for (size_t t = 0; t < hard.sources[k].terms.size(); ++t)
+      EXPECT_EQ(hard.sources[k].terms[t].weight, relit.sources[k].terms[t].weight) << hard.sources[k].terms[t].name;
+  }
 }
 
 // network.framing must be the samples' framing (their facetool:framing; none is v1): training a
@@ -266,9 +279,9 @@ TEST_F(TrainTest, ResumeIsBitExactOnCpu) {
   EXPECT_NE(fresh->step().total, straight[3].total);
 }
 
-// The trainer greys (grey_fraction), relights (relight_fraction) and mirrors (mirror_fraction)
-// the source's photos when asked: the network and the losses see other images; a fraction of 0
-// is the plain run to the bit.
+// The trainer greys (grey_fraction), relights (relight_fraction, relight_light) and mirrors
+// (mirror_fraction) the source's photos when asked: the network and the losses see other images;
+// a fraction of 0 is the plain run to the bit.
 TEST_F(TrainTest, AugmentationFractionsChangeWhatTheNetworkSees) {
   Backend& be = get_backend("cpu");
   const TrainingConfig plain = config(data->path());
@@ -281,6 +294,12 @@ TEST_F(TrainTest, AugmentationFractionsChangeWhatTheNetworkSees) {
     EXPECT_NE(a.total, trainer(be, on)->step().total);
     EXPECT_EQ(a.total, trainer(be, off)->step().total);
   }
+  // The hard light shows the network another input than the SH one (the targets differ too:
+  // its draws are a strobe's range).
+  TrainingConfig sh = plain, hard = plain;
+  sh.sources[0].relight_fraction = hard.sources[0].relight_fraction = 1.0;
+  hard.sources[0].relight_light = "hard";
+  EXPECT_NE(trainer(be, sh)->step().total, trainer(be, hard)->step().total);
 }
 
 TEST_F(TrainTest, CheckpointOfAnotherNetworkIsRefused) {
