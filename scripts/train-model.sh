@@ -8,7 +8,8 @@
 # tex-relit-stage2 landmark-normals eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
 # by name: stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2
 # prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's
-# normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The
+# normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"),
+# hard-stage2 (the relit run continued on hard-lit inputs, issue 53 item 3). The
 # tex-* steps train on synthetic faces painted with albedo textures unwrapped from the training
 # photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
 # tex-prior-stage2 with the real photos' normal label at a tenth of its weight. Every step is
@@ -74,7 +75,7 @@ LABEL_MASK=${LABEL_MASK:-fitted}
 # The run whose weights ship (figures, ship).
 SHIPPED_STAGE=landmark-normals
 DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 landmark-normals eval figures ship"
-ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
+ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 hard-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -263,6 +264,9 @@ step_tex-normal3-stage2() { run_from tex-normal3-stage2 tex-normal-stage2; }
 step_tex-grey50-stage2() { run_from tex-grey50-stage2 tex-normal3-stage2; }
 # Half of the real photos relit by a random one-sided light through their labels (docs/training.md).
 step_tex-relit-stage2() { run_from tex-relit-stage2 tex-grey50-stage2; }
+# Issue 53 item 3: the relit run's weights trained on with half of both sources' photos lit by a
+# hard light (relight_light "hard", docs/training.md).
+step_hard-stage2() { run_from hard-stage2 tex-relit-stage2; }
 
 # The landmark normal head (docs/model-card.md, "The landmark normal head"): a ridge regression
 # from each face's landmarks to its normals (the training photos' fit labels and the textured
@@ -281,7 +285,7 @@ step_landmark-normals() {
 # photometric-stereo benchmark and relighting with v1 and the fit beside them.
 step_eval() {
   local stage
-  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 landmark-normals; do
+  for stage in stage1 stage2 prior-stage1 prior-stage2 tex-prior-stage1 tex-prior-stage2 shading-stage2 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 hard-stage2 landmark-normals; do
     [ -e "$WORK/$stage/weights.safetensors" ] || { echo "eval: no $stage model yet, skipped"; continue; }
     local synthetic=$WORK/synthetic-heldout real=$WORK/real-fit-heldout
     [[ $stage == prior-* ]] && synthetic=$WORK/synthetic-heldout-prior  # the fit prior added

@@ -93,6 +93,17 @@ std::vector<FaceCrop> find_face_crops(FaceDetector& detector, const RgbImage& ph
   return crops;
 }
 
+// Float planes of the photo's size that the paste-back and the files of `options` hold at once:
+// the coverage, the layers asked for (albedo, normal, shading and reconstruction 3 each, the
+// visibility 9) and, with photo.exr, its 25 channels.
+uint64_t photo_planes(const PhotoInferOptions& options) {
+  uint64_t planes = 1;
+  for (const PhotoLayer layer : all_photo_layers())
+    if (options.layers.has(layer)) planes += layer == PhotoLayer::kVisibility ? 9 : 3;
+  if (options.outputs.has(PhotoOutput::kExr)) planes += 25;
+  return planes;
+}
+
 std::vector<FaceCrop> PhotoDecomposer::find_faces(const RgbImage& photo) {
   return find_face_crops(detector_, photo, crop_size_, options_);
 }
@@ -107,8 +118,7 @@ FoundPhoto PhotoDecomposer::find(RgbImage photo, const std::string& source) {
     const std::string reason = no_face_reason(photo, options_.detection);
     throw NoFaceError(named + ": " + reason, reason);
   }
-  // The photo-level layers (22 float planes of the photo's size) and photo.exr's 25.
-  check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * 47 * sizeof(float),
+  check_memory_budget(static_cast<uint64_t>(photo.width) * photo.height * photo_planes(options_) * sizeof(float),
                       "pasting the faces back into " + named + " of " + std::to_string(photo.width) + "x" +
                           std::to_string(photo.height) + " pixels");
   return {source, std::move(photo), std::move(crops)};

@@ -61,6 +61,10 @@ struct PhotoInferOptions {
   bool extends_forehead() const;
 };
 
+// Float planes of the photo's size that pasting back and writing `options`' layers and outputs
+// hold at once (47 with every output): the memory check before a photo's paste-back.
+uint64_t photo_planes(const PhotoInferOptions& options);
+
 // What the network reads for `crops`: each crop's planar RGB, followed by its input prior when
 // `network` takes one (the fit of the crop's landmarks on `prior_basis`, which must then be
 // given; facetool::Error otherwise).

@@ -84,3 +84,27 @@ TEST_F(SessionTest, DecomposesAsInferDoes) {
 
 }  // namespace
 }  // namespace facetool
+
+namespace facetool {
+namespace {
+
+// The paste-back's memory check counts the planes asked for (hand-counted here): the coverage,
+// 3 per colour or vector layer, 9 for the visibility, 25 for photo.exr.
+TEST(PhotoPlanes, CountOnlyTheLayersAndFilesAskedFor) {
+  auto planes = [](const std::string& outputs) {
+    PhotoInferOptions o;
+    o.outputs = PhotoOutputs::parse(outputs, "--outputs");
+    o.layers = o.outputs.layers();
+    return photo_planes(o);
+  };
+  EXPECT_EQ(photo_planes(PhotoInferOptions{}), 47u);
+  EXPECT_EQ(planes("all"), 47u);
+  EXPECT_EQ(planes("normal"), 4u);
+  EXPECT_EQ(planes("albedo,normal"), 7u);
+  EXPECT_EQ(planes("visibility"), 10u);
+  EXPECT_EQ(planes("faces"), 1u);
+  EXPECT_EQ(planes("exr"), 47u);
+}
+
+}  // namespace
+}  // namespace facetool
