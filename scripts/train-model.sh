@@ -5,11 +5,10 @@
 #
 # The shipped model's steps: lights synth-heldout synth real fit-labels textures synth-textured
 # stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2
-# tex-relit-stage2 landmark-normals eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
+# tex-relit-stage2 hard-stage2 landmark-normals eval figures ship. The others train the networks the model card compares it with (docs/model-card.md),
 # by name: stage2 (the paper's network on the procedural set), prior-data prior-stage1 prior-stage2
 # prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 (the same network with the fit's
-# normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"),
-# hard-stage2 (the relit run continued on hard-lit inputs, issue 53 item 3). The
+# normals as a second input, issue 25 item 4; docs/fit.md, "The fit as the network's input"). The
 # tex-* steps train on synthetic faces painted with albedo textures unwrapped from the training
 # photos (issue 25 item 3; docs/synthetic-data.md, "Photo-textured albedo"); shading-stage2 is
 # tex-prior-stage2 with the real photos' normal label at a tenth of its weight. Every step is
@@ -18,7 +17,8 @@
 # SITTING_MINUTES and run the same command in each. Wall times land in $WORK/timings.tsv for the
 # model card. The trainings' step counts are those the shipped weights got (configs/facetool-v2-
 # {stage1,tex-stage2,tex-grey-stage2,tex-normal-stage2,tex-normal3-stage2,tex-grey50-stage2,
-# tex-relit-stage2}.json;
+# tex-relit-stage2,hard-stage2}.json; hard-stage2's shipped run read smaller sets, UTK_LIMIT=1800 and
+# SYNTH_TEXTURED=1500, as its sitting remade them: docs/model-card.md, "Hard-lit inputs";
 # the learning rate is constant, so a run cut there is the run).
 # scripts/train-model-v1.sh reproduces the model shipped before (docs/model-card-v1.md).
 #
@@ -74,8 +74,8 @@ LABEL_SMOOTH=${LABEL_SMOOTH:-0}
 LABEL_MASK=${LABEL_MASK:-fitted}
 # The run whose weights ship (figures, ship).
 SHIPPED_STAGE=landmark-normals
-DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 landmark-normals eval figures ship"
-ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2 hard-stage2"
+DEFAULT_STEPS="lights synth-heldout synth real fit-labels textures synth-textured stage1 tex-stage2 tex-grey-stage2 tex-normal-stage2 tex-normal3-stage2 tex-grey50-stage2 tex-relit-stage2 hard-stage2 landmark-normals eval figures ship"
+ALL_STEPS="$DEFAULT_STEPS stage2 prior-data prior-stage1 prior-stage2 prior-fov14 tex-prior-stage1 tex-prior-stage2 shading-stage2"
 
 # shellcheck source=scripts/lib/train-steps.sh
 source scripts/lib/train-steps.sh
@@ -275,7 +275,7 @@ step_hard-stage2() { run_from hard-stage2 tex-relit-stage2; }
 step_landmark-normals() {
   mkdir -p "$WORK/landmark-normals"
   "$FACETOOL" landmark-normals --data "$WORK/real-fit-train" "$WORK/synthetic-textured" \
-    --model "$WORK/tex-relit-stage2/weights.safetensors" -o "$WORK/landmark-normals/weights.safetensors"
+    --model "$WORK/hard-stage2/weights.safetensors" -o "$WORK/landmark-normals/weights.safetensors"
 }
 
 # Held-out figures of every trained stage of both networks (one not trained yet is skipped):
