@@ -424,13 +424,13 @@ check_same_shard() {
 check_train_sighup() {
   local dir=$WORK/sighup first rc
   rm -rf "$dir" && mkdir -p "$dir"
-  "$FACETOOL" train --config "$FX/cfg.json" --out "$dir/run" --steps 1000000 > /dev/null 2>&1 &
+  "$FACETOOL" train --config "$FX/cfg.json" --out "$dir/run" --steps 1000000 > /dev/null 2> "$dir/err" &
   first=$!
   wait_for_file "$dir/run/log.jsonl" || { kill "$first"; echo "train wrote no log (hang)"; return; }
   kill -HUP "$first"
   wait "$first"
   rc=$?
-  [ "$rc" -eq 129 ] || echo "train ended with $rc after SIGHUP, not 129"
+  [ "$rc" -eq 129 ] || echo "train ended with $rc after SIGHUP, not 129; its stderr ends: $(tail -c 600 "$dir/err" | tr '\r' '\n' | tail -5)"
   [ -s "$dir/run/checkpoint.safetensors" ] || echo "no checkpoint after SIGHUP: the run was lost"
   ! ls "$dir/run" | grep -q '\.tmp-' || echo "SIGHUP left temporaries: $(ls "$dir/run" | grep '\.tmp-')"
 }
