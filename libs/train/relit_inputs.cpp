@@ -7,6 +7,7 @@
 
 #include "core/sh/pixel_transfer.h"
 #include "core/sh/sh_basis.h"
+#include "core/sh/sh_eval.h"
 #include "core/util/error.h"
 #include "core/util/math_constants.h"
 #include "libs/relight/relight_math.h"
@@ -70,13 +71,10 @@ RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row, R
   return d;
 }
 
-double hard_direct_shading(const sh::Vec3& n, const float* visibility, size_t stride, const sh::Vec3& direction) {
+double hard_direct_shading(const sh::Vec3& n, const sh::ShCoeffs& visibility, const sh::Vec3& direction) {
   const double cosine = n[0] * direction[0] + n[1] * direction[1] + n[2] * direction[2];
   if (cosine <= 0) return 0.0;
-  const sh::ShCoeffs y = sh::sh_basis(direction);
-  double v = 0;
-  for (int i = 0; i < sh::kCoeffCount; ++i) v += visibility[i * stride] * y[i];
-  return cosine * std::clamp(v, 0.0, 1.0) / kPi;
+  return cosine * std::clamp(sh::sh_eval(visibility, direction), 0.0, 1.0) / kPi;
 }
 
 void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int source, double fraction,
@@ -119,11 +117,13 @@ void relight_some_rows(SyntheticBatch& batch, uint64_t seed, int64_t step, int s
     if (hard) {
       hard_shading.assign(plane, 0.0);
       const double ambient_l0 = 2.0 * std::sqrt(kPi) * draw.ambient / kPi;
-      for (size_t p = 0; p < plane; ++p)
-        if (labelled[p])
-          hard_shading[p] = hard_direct_shading({nrm[p], nrm[plane + p], nrm[2 * plane + p]}, vis.data() + p, plane,
-                                                draw.direction) +
-                            ambient_l0 * t[p] / kPi;
+      for (size_t p = 0; p < plane; ++p) {
+        if (!labelled[p]) continue;
+        sh::ShCoeffs v;
+        for (int i = 0; i < sh::kCoeffCount; ++i) v[i] = vis[i * plane + p];
+        hard_shading[p] = hard_direct_shading({nrm[p], nrm[plane + p], nrm[2 * plane + p]}, v, draw.direction) +
+                          ambient_l0 * t[p] / kPi;
+      }
     }
     // Per channel: the old and new shading, the new light scaled to the old mean (the SH one's
     // scale serves the hard one too: both are the same light).

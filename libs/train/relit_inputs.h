@@ -36,10 +36,10 @@ RelightDraw relight_draw(uint64_t seed, int64_t step, int source, int64_t row,
                          RelightLight kind = RelightLight::kSh);
 
 // The exact shading of a unit-power distant light from `direction` at a pixel of normal `n` and
-// SH visibility `visibility` (9 coefficients): max(n.l, 0) times the visibility function in that
-// direction (clamped to 0..1), over pi; the sharp terminator and cast shadow that the light's 9
-// coefficients blur.
-double hard_direct_shading(const sh::Vec3& n, const float* visibility, size_t stride, const sh::Vec3& direction);
+// SH visibility `visibility`: max(n.l, 0) times the visibility function in that direction
+// (sh::sh_eval, clamped to 0..1), over pi; the sharp terminator and cast shadow that the light's
+// 9 coefficients blur.
+double hard_direct_shading(const sh::Vec3& n, const sh::ShCoeffs& visibility, const sh::Vec3& direction);
 
 // Relights, in place, the rows of `batch` that relit_row picks, through their labels: in the
 // loss mask where a row's label normal is set, image x (new shading / old shading), each
